@@ -1,0 +1,55 @@
+// A camera rig: calibrated cameras and the frames they hang from.
+//
+// Each camera is also a frame (named like the camera) in `frames`, linked to its parent
+// frame by T_parent_cam, so a view posed in any connected frame can find every camera.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/camera/camera.h"
+#include "core/geometry/frame_graph.h"
+
+namespace omniview {
+
+class Rig {
+ public:
+  explicit Rig(std::string default_frame = "base_link") : default_frame_(std::move(default_frame)) {}
+
+  // Frame that views use when they name none, and cameras hang from by default.
+  const std::string& default_frame() const { return default_frame_; }
+
+  // Adds `camera` and its frame link. Throws on a duplicate name, a mask of the wrong
+  // size or type, or an image size < 2 pixels.
+  void add_camera(Camera camera);
+  void add_frame(const std::string& child, const std::string& parent, const Pose& T_parent_child);
+
+  const std::vector<Camera>& cameras() const { return cameras_; }
+  const Camera* find(const std::string& name) const;
+  const FrameGraph& frames() const { return frames_; }
+  FrameGraph& frames() { return frames_; }
+
+  // Pose of camera `index`'s optical frame in `frame` (T_frame_cam).
+  Pose camera_pose(const std::string& frame, size_t index) const;
+
+ private:
+  std::string default_frame_;
+  FrameGraph frames_;
+  std::vector<Camera> cameras_;
+};
+
+// Our rig YAML (see config/examples/dual_fisheye/rig.yaml for a commented example).
+// Relative mask paths are resolved against the file's folder. Throws ConfigError naming
+// file, line and key.
+Rig load_rig_yaml(const std::string& path);
+
+// A kalibr camchain.yaml (cam0, cam1, ... with T_cn_cnm1 chains). Cameras are named after
+// their keys (cam0, ...); cam0 sits at T_frame_cam0 in `frame`.
+Rig load_kalibr_camchain(const std::string& path, const std::string& frame, const Pose& T_frame_cam0);
+
+// Either format, told apart by content (a camchain has top-level cam0).
+Rig load_rig(const std::string& path, const std::string& camchain_frame = "base_link",
+             const Pose& camchain_T_frame_cam0 = Pose::Identity());
+
+}  // namespace omniview

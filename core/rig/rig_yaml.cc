@@ -1,0 +1,142 @@
+// Loaders for our rig YAML and kalibr camchains.
+#include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/io/yaml_reader.h"
+#include "core/rig/rig.h"
+
+namespace omniview {
+namespace {
+
+// Reads the kalibr-style model fields shared by both formats.
+void read_model(const YamlReader& r, const YAML::Node& n, const std::string& path, const std::string& what,
+                Camera& cam) {
+  ModelSpec spec;
+  spec.camera_model = r.text(r.required(n, "camera_model", path), path + ".camera_model");
+  spec.intrinsics = r.numbers(r.required(n, "intrinsics", path), path + ".intrinsics");
+  spec.distortion_model = n["distortion_model"] ? r.text(n["distortion_model"], path + ".distortion_model") : "none";
+  if (n["distortion_coeffs"]) spec.distortion = r.numbers(n["distortion_coeffs"], path + ".distortion_coeffs");
+  const auto res = r.numbers(r.required(n, "resolution", path), path + ".resolution", 2);
+  if (res[0] != std::floor(res[0]) || res[1] != std::floor(res[1]) || res[0] < 2 || res[1] < 2 ||
+      res[0] > 65535 || res[1] > 65535) {
+    r.fail(n["resolution"], path + ".resolution", "expected [width, height] in pixels (2..65535)");
+  }
+  cam.width = static_cast<int>(res[0]);
+  cam.height = static_cast<int>(res[1]);
+  try {
+    cam.model = make_camera_model(spec, what);
+  } catch (const std::invalid_argument& e) {
+    r.fail(n, path, e.what());
+  }
+}
+
+void add_or_fail(const YamlReader& r, const YAML::Node& n, const std::string& path, Rig& rig, Camera cam) {
+  try {
+    rig.add_camera(std::move(cam));
+  } catch (const std::exception& e) {
+    r.fail(n, path, e.what());
+  }
+}
+
+}  // namespace
+
+Rig load_rig_yaml(const std::string& path) {
+  const YamlReader r = YamlReader::from_file(path);
+  const YAML::Node& root = r.root();
+  if (!root.IsMap()) r.fail(root, "", "expected a rig: a map with 'cameras'");
+  r.expect_keys(root, "", {"frame", "frames", "cameras"});
+  Rig rig(root["frame"] ? r.text(root["frame"], "frame") : "base_link");
+  if (const auto frames = root["frames"]) {
+    if (!frames.IsSequence()) r.fail(frames, "frames", "expected a list of {name, parent, T_parent_frame}");
+    for (size_t i = 0; i < frames.size(); ++i) {
+      const std::string p = "frames[" + std::to_string(i) + "]";
+      r.expect_keys(frames[i], p, {"name", "parent", "T_parent_frame"});
+      try {
+        rig.add_frame(r.text(r.required(frames[i], "name", p), p + ".name"),
+                      r.text(r.required(frames[i], "parent", p), p + ".parent"),
+                      r.pose(r.required(frames[i], "T_parent_frame", p), p + ".T_parent_frame"));
+      } catch (const std::invalid_argument& e) {
+        r.fail(frames[i], p, e.what());
+      }
+    }
+  }
+  const YAML::Node cams = r.required(root, "cameras", "");
+  if (!cams.IsSequence() || cams.size() == 0) r.fail(cams, "cameras", "expected a non-empty list of cameras");
+  const auto folder = std::filesystem::path(path).parent_path();
+  for (size_t i = 0; i < cams.size(); ++i) {
+    const YAML::Node n = cams[i];
+    std::string p = "cameras[" + std::to_string(i) + "]";
+    r.expect_keys(n, p, {"name", "camera_model", "intrinsics", "distortion_model", "distortion_coeffs",
+                         "resolution", "parent", "T_parent_cam", "mount", "mask", "fov_deg"});
+    Camera cam;
+    cam.name = r.text(r.required(n, "name", p), p + ".name");
+    p += " (" + cam.name + ")";
+    read_model(r, n, p, path + ": camera '" + cam.name + "'", cam);
+    if (n["parent"]) cam.parent_frame = r.text(n["parent"], p + ".parent");
+    if (n["T_parent_cam"] && n["mount"]) r.fail(n, p, "give either T_parent_cam or mount, not both");
+    if (n["T_parent_cam"]) {
+      cam.T_parent_cam = r.pose(n["T_parent_cam"], p + ".T_parent_cam");
+    } else if (n["mount"]) {
+      // `mount` is posed like a view (x = optical axis, y left, z up): friendlier to write.
+      cam.T_parent_cam = r.pose(n["mount"], p + ".mount");
+      cam.T_parent_cam.linear() = cam.T_parent_cam.linear() * R_view_optical();
+    } else {
+      r.fail(n, p, "missing the camera's pose: give T_parent_cam (optical frame) or mount (view-like)");
+    }
+    if (n["fov_deg"]) cam.fov_deg = r.number(n["fov_deg"], p + ".fov_deg");
+    if (n["mask"]) {
+      const auto mask_path = (folder / r.text(n["mask"], p + ".mask")).string();
+      cam.mask = cv::imread(mask_path, cv::IMREAD_GRAYSCALE);
+      if (cam.mask.empty()) r.fail(n["mask"], p + ".mask", "cannot read mask image '" + mask_path + "'");
+    }
+    add_or_fail(r, n, p, rig, std::move(cam));
+  }
+  return rig;
+}
+
+Rig load_kalibr_camchain(const std::string& path, const std::string& frame, const Pose& T_frame_cam0) {
+  const YamlReader r = YamlReader::from_file(path);
+  const YAML::Node& root = r.root();
+  if (!root.IsMap() || !root["cam0"]) r.fail(root, "", "not a kalibr camchain: expected keys cam0, cam1, ...");
+  Rig rig(frame);
+  Pose T_frame_prev = T_frame_cam0;
+  size_t count = 0;
+  for (const auto& kv : root) {
+    const std::string key = kv.first.Scalar();
+    if (key.rfind("cam", 0) != 0) r.fail(kv.first, key, "unexpected top-level key in a camchain");
+  }
+  for (;; ++count) {
+    const std::string key = "cam" + std::to_string(count);
+    const YAML::Node n = root[key];
+    if (!n) break;
+    r.expect_keys(n, key, {"camera_model", "intrinsics", "distortion_model", "distortion_coeffs", "resolution",
+                           "T_cn_cnm1", "T_cam_imu", "rostopic", "cam_overlaps", "timeshift_cam_imu"});
+    Camera cam;
+    cam.name = key;
+    read_model(r, n, key, path + ": " + key, cam);
+    cam.parent_frame = frame;
+    if (count == 0) {
+      cam.T_parent_cam = T_frame_cam0;
+    } else {
+      // T_cn_cnm1 maps points of cam(n-1) into cam(n): T_frame_cn = T_frame_cnm1 * T_cn_cnm1^-1.
+      const Pose T_cn_cnm1 = r.pose(r.required(n, "T_cn_cnm1", key), key + ".T_cn_cnm1");
+      cam.T_parent_cam = T_frame_prev * T_cn_cnm1.inverse();
+    }
+    T_frame_prev = cam.T_parent_cam;
+    add_or_fail(r, n, key, rig, std::move(cam));
+  }
+  if (root.size() != count) {
+    r.fail(root, "", "camchain keys must be cam0..cam" + std::to_string(count - 1) +
+                         " without gaps; found " + std::to_string(root.size()) + " entries");
+  }
+  return rig;
+}
+
+Rig load_rig(const std::string& path, const std::string& camchain_frame, const Pose& camchain_T_frame_cam0) {
+  const YamlReader r = YamlReader::from_file(path);
+  if (r.root().IsMap() && r.root()["cam0"]) return load_kalibr_camchain(path, camchain_frame, camchain_T_frame_cam0);
+  return load_rig_yaml(path);
+}
+
+}  // namespace omniview

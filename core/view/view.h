@@ -1,0 +1,51 @@
+// A view: the projection surface behind every output pixel, and the way back.
+//
+// All surfaces are central: every pixel's ray starts at the view frame's origin (the
+// virtual camera's centre) and meets the surface once. pixel_to_point gives that surface
+// point; point_to_pixel takes any 3D point, surface or not, to the pixel whose ray passes
+// through it, which is what clients need to click and to draw overlays.
+// Coordinates are in the view frame (x viewing direction, y left, z up) unless named.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "core/view/view_spec.h"
+
+namespace omniview {
+
+class View {
+ public:
+  virtual ~View() = default;
+
+  // Validates the spec; throws std::invalid_argument naming the view and field.
+  static std::unique_ptr<View> create(const ViewSpec& spec);
+
+  const ViewSpec& spec() const { return spec_; }
+  int width() const { return spec_.width; }
+  int height() const { return spec_.height; }
+
+  // Direction (not necessarily unit) of pixel (u, v)'s ray; false outside the surface
+  // (a fisheye view's corners, a bird's-eye ray above the horizon).
+  virtual bool pixel_to_direction(double u, double v, Vec3& dir) const = 0;
+  // Surface point seen at pixel (u, v).
+  bool pixel_to_point(double u, double v, Vec3& point) const;
+  // Pixel at which `point` appears; false if it is outside the image or behind the view.
+  virtual bool point_to_pixel(const Vec3& point, Vec2& uv) const = 0;
+
+  // Surface points of one output row, in float, for the map builder. Invalid pixels get
+  // valid[i] = 0 and unspecified coordinates.
+  virtual void row_points(int v, float* x, float* y, float* z, uint8_t* valid) const;
+
+ protected:
+  explicit View(const ViewSpec& spec) : spec_(spec) {}
+  // Distance along the unit ray `dir` to the surface; <= 0 where it misses.
+  virtual double surface_range(const Vec3& unit_dir) const = 0;
+  bool in_image(const Vec2& uv) const {
+    return uv.x() >= -0.5 && uv.y() >= -0.5 && uv.x() <= width() - 0.5 && uv.y() <= height() - 0.5;
+  }
+
+  ViewSpec spec_;
+};
+
+}  // namespace omniview

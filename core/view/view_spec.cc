@@ -1,0 +1,105 @@
+#include "core/view/view_spec.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace omniview {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+void check(bool ok, const ViewSpec& s, const std::string& field, const std::string& why) {
+  if (!ok) throw std::invalid_argument("view '" + s.name + "': " + field + " " + why);
+}
+
+std::string num(double x) {
+  std::ostringstream os;
+  os << x;
+  return os.str();
+}
+
+}  // namespace
+
+const std::vector<std::string>& view_type_names() {
+  static const std::vector<std::string> names{"perspective", "birdseye", "cylindrical",
+                                              "mercator", "equirectangular", "fisheye"};
+  return names;
+}
+
+std::string to_string(ViewType t) { return view_type_names().at(static_cast<size_t>(t)); }
+
+ViewType view_type_from_string(const std::string& s, const std::string& what) {
+  const auto& names = view_type_names();
+  for (size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == s) return static_cast<ViewType>(i);
+  }
+  std::string known;
+  for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument(what + ": unknown view type '" + s + "' (one of: " + known + ")");
+}
+
+std::string to_string(Fusion f) { return f == Fusion::kBlend ? "blend" : "nearest"; }
+
+Fusion fusion_from_string(const std::string& s, const std::string& what) {
+  if (s == "nearest") return Fusion::kNearestCentre;
+  if (s == "blend") return Fusion::kBlend;
+  throw std::invalid_argument(what + ": unknown fusion '" + s + "' (nearest or blend)");
+}
+
+Pose ViewSpec::T_frame_view() const {
+  Vec3 p = position;
+  if (type == ViewType::kBirdseye) p.z() = ground_z + height_m;
+  return make_pose(p, yaw_deg * kDeg, pitch_deg * kDeg, roll_deg * kDeg);
+}
+
+void validate(const ViewSpec& s) {
+  check(!s.name.empty(), s, "name", "must not be empty");
+  for (const auto& [field, v] : {std::pair{"width", s.width}, std::pair{"height", s.height}}) {
+    check(v >= 1 && v <= kMaxViewSide, s, field,
+          "must be between 1 and " + std::to_string(kMaxViewSide) + " pixels, got " + std::to_string(v));
+  }
+  check(s.position.allFinite() && std::isfinite(s.yaw_deg) && std::isfinite(s.pitch_deg) &&
+            std::isfinite(s.roll_deg),
+        s, "pose", "must be finite");
+  switch (s.type) {
+    case ViewType::kPerspective:
+      check(s.hfov_deg > 0 && s.hfov_deg < 180, s, "hfov_deg",
+            "must be in (0, 180) for a perspective view, got " + num(s.hfov_deg) +
+                " (use a fisheye, cylindrical or equirectangular view for wider fields)");
+      check(s.distance > 0 && std::isfinite(s.distance), s, "distance", "must be > 0, got " + num(s.distance));
+      break;
+    case ViewType::kBirdseye:
+      check(s.hfov_deg > 0 && s.hfov_deg < 180, s, "hfov_deg", "must be in (0, 180), got " + num(s.hfov_deg));
+      check(s.height_m > 0 && std::isfinite(s.height_m), s, "height", "must be > 0 m, got " + num(s.height_m));
+      check(std::isfinite(s.ground_z), s, "ground_z", "must be finite");
+      break;
+    case ViewType::kCylindrical:
+      check(s.vfov_deg > 0 && s.vfov_deg < 180, s, "vfov_deg", "must be in (0, 180), got " + num(s.vfov_deg));
+      break;
+    case ViewType::kMercator:
+      check(s.lat_min_deg > -90 && s.lat_max_deg < 90 && s.lat_min_deg < s.lat_max_deg, s,
+            "lat_min_deg/lat_max_deg", "must satisfy -90 < min < max < 90 for mercator, got " +
+                                          num(s.lat_min_deg) + ", " + num(s.lat_max_deg));
+      break;
+    case ViewType::kEquirectangular:
+      check(s.lat_min_deg >= -90 && s.lat_max_deg <= 90 && s.lat_min_deg < s.lat_max_deg, s,
+            "lat_min_deg/lat_max_deg", "must satisfy -90 <= min < max <= 90, got " +
+                                          num(s.lat_min_deg) + ", " + num(s.lat_max_deg));
+      break;
+    case ViewType::kFisheye:
+      check(s.fov_deg > 0 && s.fov_deg <= 360, s, "fov_deg", "must be in (0, 360], got " + num(s.fov_deg));
+      break;
+  }
+  if (s.type == ViewType::kCylindrical || s.type == ViewType::kMercator ||
+      s.type == ViewType::kEquirectangular) {
+    check(s.azimuth_span_deg > 0 && s.azimuth_span_deg <= 360, s, "azimuth_span_deg",
+          "must be in (0, 360], got " + num(s.azimuth_span_deg));
+  }
+  if (s.type != ViewType::kPerspective && s.type != ViewType::kBirdseye) {
+    check(s.radius > 0 && std::isfinite(s.radius), s, "radius", "must be > 0 m, got " + num(s.radius));
+  }
+  check(s.feather_px > 0 && std::isfinite(s.feather_px), s, "feather_px", "must be > 0, got " + num(s.feather_px));
+}
+
+}  // namespace omniview

@@ -1,0 +1,56 @@
+// What a user asks for: one view's type, size, pose and surface parameters.
+//
+// Angles are stored in degrees, as the API and YAML files give them; the View classes
+// convert once. Field meanings follow DESIGN.md ("Views", "Conventions").
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/geometry/pose.h"
+
+namespace omniview {
+
+enum class ViewType { kPerspective, kBirdseye, kCylindrical, kMercator, kEquirectangular, kFisheye };
+enum class Fusion { kNearestCentre, kBlend };
+
+const std::vector<std::string>& view_type_names();  // in ViewType order
+std::string to_string(ViewType t);
+ViewType view_type_from_string(const std::string& s, const std::string& what);
+std::string to_string(Fusion f);
+Fusion fusion_from_string(const std::string& s, const std::string& what);
+
+constexpr int kMaxViewSide = 16384;
+
+struct ViewSpec {
+  std::string name = "view";
+  ViewType type = ViewType::kPerspective;
+  int width = 1024;
+  int height = 512;
+
+  // Pose of the view frame (x = viewing direction, y left, z up) in `frame`.
+  std::string frame;  // empty: the rig's default frame
+  Vec3 position = Vec3::Zero();
+  double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;
+
+  double hfov_deg = 90;        // perspective, birdseye
+  double distance = 5;         // perspective: plane distance (m)
+  double height_m = 3;         // birdseye: virtual camera height above the ground plane (m)
+  double ground_z = 0;         // birdseye: ground plane z in `frame`
+  double radius = 5;           // cylindrical, mercator, equirectangular, fisheye: surface radius (m)
+  double vfov_deg = 90;        // cylindrical: vertical field of view of the central cylinder
+  double azimuth_span_deg = 360;  // cylindrical, mercator, equirectangular
+  double lat_min_deg = -90, lat_max_deg = 90;  // equirectangular (mercator defaults to +-80)
+  double fov_deg = 180;        // fisheye
+
+  Fusion fusion = Fusion::kNearestCentre;
+  double feather_px = 24;      // blend: distance from a camera's usable border at full weight
+
+  // Pose of the view frame in `frame` (for birdseye, its z is ground_z + height_m).
+  Pose T_frame_view() const;
+};
+
+// Throws std::invalid_argument with a message that names the view and the field.
+void validate(const ViewSpec& spec);
+
+}  // namespace omniview
