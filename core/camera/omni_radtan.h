@@ -21,8 +21,8 @@ class OmniRadtan {
     const S den = z + S(xi_) * norm;
     const S safe_den = den > S(1e-9) ? den : S(1);
     const S mx = x / safe_den, my = y / safe_den;
-    S dx = mx, dy = my;
-    if (!dist_.is_zero()) dist_.distort(mx, my, dx, dy);
+    S dx, dy;
+    dist_.distort(mx, my, dx, dy);  // identity for zero coefficients; no branch keeps SIMD
     u = S(fu_) * dx + S(pu_);
     v = S(fv_) * dy + S(pv_);
     return (den > S(1e-9)) & (z > -S(w_) * norm) & (mx * mx + my * my <= S(max_r2_));

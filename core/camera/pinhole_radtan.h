@@ -18,8 +18,8 @@ class PinholeRadtan {
   inline bool project(S x, S y, S z, S& u, S& v) const {
     const S safe_z = z > S(1e-9) ? z : S(1);
     const S mx = x / safe_z, my = y / safe_z;
-    S dx = mx, dy = my;
-    if (!dist_.is_zero()) dist_.distort(mx, my, dx, dy);
+    S dx, dy;
+    dist_.distort(mx, my, dx, dy);  // identity for zero coefficients; no branch keeps SIMD
     u = S(fu_) * dx + S(pu_);
     v = S(fv_) * dy + S(pv_);
     return (z > S(1e-9)) & (mx * mx + my * my <= S(max_r2_));

@@ -14,8 +14,7 @@ namespace omniview {
 // map.height x map.width with `out_channels` (1 or 3) channels; greyscale inputs feed
 // colour outputs and vice versa. Pixels no camera sees are 0.
 // Throws std::invalid_argument naming the camera for a missing, wrong-size or wrong-type
-// image. `threads` as in MapOptions.
-void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat& out, int out_channels,
-               int threads = 0);
+// image. Runs on OpenCV's thread pool.
+void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat& out, int out_channels);
 
 }  // namespace omniview

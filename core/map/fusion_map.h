@@ -43,13 +43,9 @@ struct FusionMap {
   double coverage() const;  // fraction of pixels some camera sees
 };
 
-struct MapOptions {
-  // Worker threads; 0 = OpenCV's default (all cores).
-  int threads = 0;
-};
-
-// Throws std::invalid_argument if the view's frame is not connected to the cameras or
-// the rig has more than 254 cameras.
-FusionMap build_map(const Rig& rig, const View& view, const MapOptions& options = {});
+// Builds the map for `view` over `rig`, using the view's fusion policy. Runs on OpenCV's
+// thread pool (cv::setNumThreads sets its size). Throws std::invalid_argument if the
+// view's frame is not connected to the cameras or the rig has more than 254 cameras.
+FusionMap build_map(const Rig& rig, const View& view);
 
 }  // namespace omniview

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/camera/fast_math.h"
+
 namespace omniview {
 
 FisheyeView::FisheyeView(const ViewSpec& spec) : View(spec) {
@@ -30,6 +32,23 @@ bool FisheyeView::point_to_pixel(const Vec3& p, Vec2& uv) const {
   const double scale = lateral > 1e-12 ? f_ * theta / lateral : 0.0;
   uv = Vec2(cx_ - p.y() * scale, cy_ - p.z() * scale);
   return in_image(uv);
+}
+
+void FisheyeView::row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+  const float inv_f = static_cast<float>(1 / f_), cx = static_cast<float>(cx_);
+  const float oy = static_cast<float>((v - cy_) / f_);
+  const float max_theta2 = static_cast<float>(std::min(half_fov_, M_PI) * std::min(half_fov_, M_PI));
+  const float r = static_cast<float>(spec_.radius);
+  for (int u = 0; u < width(); ++u) {
+    const float ox = (static_cast<float>(u) - cx) * inv_f;
+    const float theta2 = ox * ox + oy * oy;
+    float cos_theta, sinc_theta;
+    fast::cos_and_sinc(theta2, cos_theta, sinc_theta);
+    x[u] = r * cos_theta;
+    y[u] = -r * ox * sinc_theta;
+    z[u] = -r * oy * sinc_theta;
+    valid[u] = theta2 <= max_theta2;
+  }
 }
 
 }  // namespace omniview

@@ -1,0 +1,121 @@
+#include "core/view/view_yaml.h"
+
+namespace omniview {
+
+ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string& path) {
+  r.expect_keys(n, path, {"name", "type", "width", "height", "frame", "pose", "hfov_deg", "distance", "height_m",
+                          "ground_z", "radius", "vfov_deg", "azimuth_span_deg", "lat_min_deg", "lat_max_deg",
+                          "fov_deg", "fusion", "feather_px"});
+  ViewSpec s;
+  const auto key = [&](const char* k) { return path.empty() ? std::string(k) : path + "." + k; };
+  s.type = [&] {
+    const YAML::Node t = r.required(n, "type", path);
+    try {
+      return view_type_from_string(r.text(t, key("type")), "type");
+    } catch (const std::invalid_argument& e) {
+      r.fail(t, key("type"), e.what());
+    }
+  }();
+  if (s.type == ViewType::kMercator) s.lat_min_deg = -80, s.lat_max_deg = 80;
+  if (s.type == ViewType::kBirdseye) s.pitch_deg = 90;  // straight down, forward at the top
+  if (n["name"]) s.name = r.text(n["name"], key("name"));
+  if (n["width"]) s.width = r.integer(n["width"], key("width"));
+  if (n["height"]) s.height = r.integer(n["height"], key("height"));
+  if (n["frame"]) s.frame = r.text(n["frame"], key("frame"));
+  if (const YAML::Node pose = n["pose"]) {
+    r.expect_keys(pose, key("pose"), {"xyz", "ypr_deg"});
+    if (pose["xyz"]) {
+      const auto v = r.numbers(pose["xyz"], key("pose.xyz"), 3);
+      s.position = Vec3(v[0], v[1], v[2]);
+    }
+    if (pose["ypr_deg"]) {
+      const auto a = r.numbers(pose["ypr_deg"], key("pose.ypr_deg"), 3);
+      s.yaw_deg = a[0], s.pitch_deg = a[1], s.roll_deg = a[2];
+    }
+  }
+  const std::pair<const char*, double*> numbers[] = {
+      {"hfov_deg", &s.hfov_deg},         {"distance", &s.distance},       {"height_m", &s.height_m},
+      {"ground_z", &s.ground_z},         {"radius", &s.radius},           {"vfov_deg", &s.vfov_deg},
+      {"azimuth_span_deg", &s.azimuth_span_deg}, {"lat_min_deg", &s.lat_min_deg}, {"lat_max_deg", &s.lat_max_deg},
+      {"fov_deg", &s.fov_deg},           {"feather_px", &s.feather_px}};
+  for (const auto& [k, field] : numbers) {
+    if (n[k]) *field = r.number(n[k], key(k));
+  }
+  if (n["fusion"]) {
+    try {
+      s.fusion = fusion_from_string(r.text(n["fusion"], key("fusion")), "fusion");
+    } catch (const std::invalid_argument& e) {
+      r.fail(n["fusion"], key("fusion"), e.what());
+    }
+  }
+  try {
+    validate(s);
+  } catch (const std::invalid_argument& e) {
+    r.fail(n, path, e.what());
+  }
+  return s;
+}
+
+std::vector<ViewSpec> load_views(const std::string& file) {
+  const YamlReader r = YamlReader::from_file(file);
+  const YAML::Node& root = r.root();
+  if (!root.IsMap()) r.fail(root, "", "expected a view (a map with 'type') or 'views: [...]'");
+  std::vector<ViewSpec> views;
+  if (root["views"]) {
+    r.expect_keys(root, "", {"views"});
+    const YAML::Node list = root["views"];
+    if (!list.IsSequence() || list.size() == 0) r.fail(list, "views", "expected a non-empty list of views");
+    for (size_t i = 0; i < list.size(); ++i) views.push_back(parse_view(r, list[i], "views[" + std::to_string(i) + "]"));
+  } else {
+    views.push_back(parse_view(r, root, ""));
+  }
+  for (size_t i = 0; i < views.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      if (views[i].name == views[j].name) r.fail(root, "", "two views are named '" + views[i].name + "'");
+    }
+  }
+  return views;
+}
+
+YAML::Node view_to_yaml(const ViewSpec& s) {
+  YAML::Node n;
+  n["name"] = s.name;
+  n["type"] = to_string(s.type);
+  n["width"] = s.width;
+  n["height"] = s.height;
+  if (!s.frame.empty()) n["frame"] = s.frame;
+  n["pose"]["xyz"] = std::vector<double>{s.position.x(), s.position.y(), s.position.z()};
+  n["pose"]["ypr_deg"] = std::vector<double>{s.yaw_deg, s.pitch_deg, s.roll_deg};
+  switch (s.type) {
+    case ViewType::kPerspective:
+      n["hfov_deg"] = s.hfov_deg;
+      n["distance"] = s.distance;
+      break;
+    case ViewType::kBirdseye:
+      n["hfov_deg"] = s.hfov_deg;
+      n["height_m"] = s.height_m;
+      n["ground_z"] = s.ground_z;
+      break;
+    case ViewType::kCylindrical:
+      n["radius"] = s.radius;
+      n["vfov_deg"] = s.vfov_deg;
+      n["azimuth_span_deg"] = s.azimuth_span_deg;
+      break;
+    case ViewType::kMercator:
+    case ViewType::kEquirectangular:
+      n["radius"] = s.radius;
+      n["azimuth_span_deg"] = s.azimuth_span_deg;
+      n["lat_min_deg"] = s.lat_min_deg;
+      n["lat_max_deg"] = s.lat_max_deg;
+      break;
+    case ViewType::kFisheye:
+      n["radius"] = s.radius;
+      n["fov_deg"] = s.fov_deg;
+      break;
+  }
+  n["fusion"] = to_string(s.fusion);
+  n["feather_px"] = s.feather_px;
+  return n;
+}
+
+}  // namespace omniview
