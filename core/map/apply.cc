@@ -5,6 +5,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/map/multiversion.h"
+
 namespace omniview {
 namespace {
 
@@ -23,7 +25,7 @@ using U8x8 = uint8_t __attribute__((vector_size(8)));
 using U16x8 = uint16_t __attribute__((vector_size(16)));
 
 // Loads pixel p and the one to its right, 4 bytes each: reads one byte past the pair.
-inline U16x8 load_pair(const uint8_t* p) {
+[[gnu::always_inline]] inline U16x8 load_pair(const uint8_t* p) {
   uint32_t left, right;
   std::memcpy(&left, p, 4);
   std::memcpy(&right, p + 3, 4);
@@ -33,14 +35,14 @@ inline U16x8 load_pair(const uint8_t* p) {
   return __builtin_convertvector(v, U16x8);
 }
 
-inline U16x8 lerp_pair(U16x8 pair, U16x8 weights) {  // lanes 0-2: left (1 - f) + right f, in 1/256
+[[gnu::always_inline]] inline U16x8 lerp_pair(U16x8 pair, U16x8 weights) {  // lanes 0-2: left (1 - f) + right f, in 1/256
   const U16x8 w = pair * weights;
   return (w + __builtin_shufflevector(w, w, 4, 5, 6, 7, 0, 1, 2, 3) + 128) >> 8;
 }
 
 // Plain per-channel version for the image's very last footprint, where load_pair's extra
 // byte would lie past the end of the image.
-inline void bilinear3_edge(const Source& s, const MapEntry& e, uint8_t* out) {
+[[gnu::always_inline]] inline void bilinear3_edge(const Source& s, const MapEntry& e, uint8_t* out) {
   const uint8_t* p = s.data + size_t{e.offset} * 3;
   const uint32_t fx = e.fx, fy = e.fy;
   for (int c = 0; c < 3; ++c) {
@@ -52,11 +54,23 @@ inline void bilinear3_edge(const Source& s, const MapEntry& e, uint8_t* out) {
 
 // Writes 4 bytes to out: the pixel and a byte the next pixel overwrites (the caller keeps
 // the row's last pixel off this path).
-inline void bilinear3(const Source& s, const MapEntry& e, uint8_t* out) {
+// Horizontal weight vectors {256 - fx x4, fx x4} for every fx: one 4 KiB table in L1
+// instead of building the vector per pixel.
+struct HorizontalWeights {
+  alignas(16) U16x8 table[256];
+  HorizontalWeights() {
+    for (uint16_t fx = 0; fx < 256; ++fx) {
+      const uint16_t gx = 256 - fx;
+      table[fx] = U16x8{gx, gx, gx, gx, fx, fx, fx, fx};
+    }
+  }
+};
+const HorizontalWeights kHorizontalWeights;
+
+[[gnu::always_inline]] inline void bilinear3(const Source& s, const MapEntry& e, uint8_t* out) {
   if (e.offset >= s.last_footprint) return bilinear3_edge(s, e, out);
   const uint8_t* p = s.data + size_t{e.offset} * 3;
-  const uint16_t fx = e.fx, gx = 256 - fx;
-  const U16x8 wx = {gx, gx, gx, gx, fx, fx, fx, fx};
+  const U16x8 wx = kHorizontalWeights.table[e.fx];
   const U16x8 top = lerp_pair(load_pair(p), wx);
   const U16x8 bottom = lerp_pair(load_pair(p + s.stride), wx);
   const uint16_t fy = e.fy;
@@ -65,7 +79,7 @@ inline void bilinear3(const Source& s, const MapEntry& e, uint8_t* out) {
   std::memcpy(out, &bytes, 4);
 }
 
-inline uint8_t bilinear1(const Source& s, const MapEntry& e) {
+[[gnu::always_inline]] inline uint8_t bilinear1(const Source& s, const MapEntry& e) {
   const uint8_t* p = s.data + e.offset;
   const uint32_t fx = e.fx, fy = e.fy;
   const uint32_t top = p[0] * (256 - fx) + p[1] * fx;
@@ -91,7 +105,7 @@ inline void sample_any(const Source& s, const MapEntry& e, int out_channels, uin
 
 // Nearest-centre maps whose sources all have the output's channel count: the hot path.
 template <int C>
-void apply_row_uniform(const MapEntry* m, const Source* sources, int n, uint8_t* out) {
+[[gnu::always_inline]] inline void apply_row_uniform(const MapEntry* m, const Source* sources, int n, uint8_t* out) {
   for (int i = 0; i < n; ++i, out += C) {
     const MapEntry e = m[i];
     if (e.cam == kNoCamera) {
@@ -127,6 +141,16 @@ void apply_row_general(const FusionMap& map, size_t first, const Source* sources
     sample_any(sources[e2.cam], e2, oc, other);
     for (int c = 0; c < oc; ++c) out[c] = static_cast<uint8_t>((out[c] * w + other[c] * (256 - w) + 128) >> 8);
   }
+}
+
+// The hot paths, built for baseline x86-64 and x86-64-v3 (see multiversion.h).
+OMNIVIEW_MULTIVERSION
+void apply_row_uniform_bgr(const MapEntry* m, const Source* sources, int n, uint8_t* out) {
+  apply_row_uniform<3>(m, sources, n, out);
+}
+OMNIVIEW_MULTIVERSION
+void apply_row_uniform_grey(const MapEntry* m, const Source* sources, int n, uint8_t* out) {
+  apply_row_uniform<1>(m, sources, n, out);
 }
 
 }  // namespace
@@ -168,9 +192,9 @@ void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat
       const size_t first = static_cast<size_t>(row) * w;
       uint8_t* dst = out.ptr<uint8_t>(row);
       if (uniform && out_channels == 3) {
-        apply_row_uniform<3>(&map.primary[first], sources.data(), w, dst);
+        apply_row_uniform_bgr(&map.primary[first], sources.data(), w, dst);
       } else if (uniform) {
-        apply_row_uniform<1>(&map.primary[first], sources.data(), w, dst);
+        apply_row_uniform_grey(&map.primary[first], sources.data(), w, dst);
       } else {
         apply_row_general(map, first, sources.data(), w, out_channels, dst);
       }

@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/map/multiversion.h"
 #include "core/map/usable_region.h"
 
 namespace omniview {
@@ -40,7 +41,7 @@ struct RowScratch {
 // fusion criterion: squared distance from the image centre, normalised by image size so
 // cameras of different resolution compete fairly; kInvalid where the camera cannot see.
 template <typename Model>
-void project_row(const Model& model, const CameraSetup& c, int n, const float* __restrict x,
+[[gnu::always_inline]] inline void project_row(const Model& model, const CameraSetup& c, int n, const float* __restrict x,
                  const float* __restrict y, const float* __restrict z, const uint8_t* __restrict valid,
                  float* __restrict out_u, float* __restrict out_v, float* __restrict score) {
   for (int i = 0; i < n; ++i) {
@@ -96,7 +97,7 @@ inline uint32_t encode(const CameraSetup& c, float u, float v, uint32_t cam, uin
 
 // Keeps, per pixel, the candidate with the lowest score: the paper's rule. All 32-bit
 // lanes and selects, so it vectorises.
-void select_nearest(const CameraSetup& c, uint32_t cam, int n, const float* __restrict u,
+[[gnu::always_inline]] inline void select_nearest(const CameraSetup& c, uint32_t cam, int n, const float* __restrict u,
                     const float* __restrict v, const float* __restrict score, float* __restrict best,
                     uint32_t* __restrict offset, uint32_t* __restrict rest) {
   for (int i = 0; i < n; ++i) {
@@ -144,6 +145,71 @@ CameraSetup make_setup(const Rig& rig, size_t index, const View& view, const Pos
   return s;
 }
 
+// One band of output rows. Compiled twice on x86-64 (baseline SSE2 and x86-64-v3 with
+// AVX2/FMA) and picked at run time, so robots with newer CPUs get 8-wide SIMD while the
+// binary still runs everywhere; other architectures build it once.
+OMNIVIEW_MULTIVERSION
+void build_rows(const View& view, const std::vector<CameraSetup>& setups, bool blend, FusionMap& map, int row_begin,
+                int row_end) {
+  const int w = map.width;
+  RowScratch s(w);
+  std::vector<float> best(w), second(w);
+  std::vector<uint32_t> offset(w), rest(w);
+  for (int row = row_begin; row < row_end; ++row) {
+    view.row_points(row, s.x.data(), s.y.data(), s.z.data(), s.valid.data());
+    MapEntry* primary = &map.primary[static_cast<size_t>(row) * w];
+    MapEntry* secondary = blend ? &map.secondary[static_cast<size_t>(row) * w] : nullptr;
+    std::fill(best.begin(), best.end(), blend ? 0.0f : kInvalid);
+    std::fill(second.begin(), second.end(), 0.0f);
+    std::fill(rest.begin(), rest.end(), kNoRest);
+    for (size_t ci = 0; ci < setups.size(); ++ci) {
+      const CameraSetup& c = setups[ci];
+      std::visit([&](const auto& model) {
+        project_row(model, c, w, s.x.data(), s.y.data(), s.z.data(), s.valid.data(), s.u.data(), s.v.data(),
+                    s.score.data());
+      }, c.camera->model);
+      if (!c.camera->mask.empty()) {
+        for (int i = 0; i < w; ++i) {
+          if (s.score[i] != kInvalid && !mask_allows(*c.camera, s.u[i], s.v[i])) s.score[i] = kInvalid;
+        }
+      }
+      if (!blend) {
+        select_nearest(c, static_cast<uint32_t>(ci), w, s.u.data(), s.v.data(), s.score.data(), best.data(),
+                       offset.data(), rest.data());
+        continue;
+      }
+      for (int i = 0; i < w; ++i) {
+        if (s.score[i] == kInvalid) continue;
+        const float weight = c.feather.at<float>(static_cast<int>(s.v[i] + 0.5f), static_cast<int>(s.u[i] + 0.5f));
+        if (weight <= 0) continue;
+        uint32_t e_rest;
+        const uint32_t e_offset = encode(c, s.u[i], s.v[i], static_cast<uint32_t>(ci), e_rest);
+        const MapEntry e = make_entry(e_offset, e_rest);
+        if (weight > best[i]) {
+          second[i] = best[i];
+          secondary[i] = primary[i];
+          best[i] = weight;
+          primary[i] = e;
+        } else if (weight > second[i]) {
+          second[i] = weight;
+          secondary[i] = e;
+        }
+      }
+    }
+    if (!blend) {
+      for (int i = 0; i < w; ++i) primary[i] = make_entry(offset[i], rest[i]);
+      continue;
+    }
+    uint16_t* pw = &map.primary_weight[static_cast<size_t>(row) * w];
+    for (int i = 0; i < w; ++i) {
+      const float total = best[i] + second[i];
+      pw[i] = secondary[i].cam == kNoCamera || total <= 0
+                  ? 256
+                  : static_cast<uint16_t>(std::lround(256.0f * best[i] / total));
+    }
+  }
+}
+
 }  // namespace
 
 double FusionMap::coverage() const {
@@ -188,64 +254,8 @@ FusionMap build_map(const Rig& rig, const View& view) {
     map.camera_names.push_back(c.name);
   }
 
-  const int w = map.width;
   cv::parallel_for_(cv::Range(0, map.height), [&](const cv::Range& rows) {
-    RowScratch s(w);
-    std::vector<float> best(w), second(w);
-    std::vector<uint32_t> offset(w), rest(w);
-    for (int row = rows.start; row < rows.end; ++row) {
-      view.row_points(row, s.x.data(), s.y.data(), s.z.data(), s.valid.data());
-      MapEntry* primary = &map.primary[static_cast<size_t>(row) * w];
-      MapEntry* secondary = blend ? &map.secondary[static_cast<size_t>(row) * w] : nullptr;
-      std::fill(best.begin(), best.end(), blend ? 0.0f : kInvalid);
-      std::fill(second.begin(), second.end(), 0.0f);
-      std::fill(rest.begin(), rest.end(), kNoRest);
-      for (size_t ci = 0; ci < setups.size(); ++ci) {
-        const CameraSetup& c = setups[ci];
-        std::visit([&](const auto& model) {
-          project_row(model, c, w, s.x.data(), s.y.data(), s.z.data(), s.valid.data(), s.u.data(), s.v.data(),
-                      s.score.data());
-        }, c.camera->model);
-        if (!c.camera->mask.empty()) {
-          for (int i = 0; i < w; ++i) {
-            if (s.score[i] != kInvalid && !mask_allows(*c.camera, s.u[i], s.v[i])) s.score[i] = kInvalid;
-          }
-        }
-        if (!blend) {
-          select_nearest(c, static_cast<uint32_t>(ci), w, s.u.data(), s.v.data(), s.score.data(), best.data(),
-                         offset.data(), rest.data());
-          continue;
-        }
-        for (int i = 0; i < w; ++i) {
-          if (s.score[i] == kInvalid) continue;
-          const float weight = c.feather.at<float>(static_cast<int>(s.v[i] + 0.5f), static_cast<int>(s.u[i] + 0.5f));
-          if (weight <= 0) continue;
-          uint32_t e_rest;
-          const uint32_t e_offset = encode(c, s.u[i], s.v[i], static_cast<uint32_t>(ci), e_rest);
-          const MapEntry e = make_entry(e_offset, e_rest);
-          if (weight > best[i]) {
-            second[i] = best[i];
-            secondary[i] = primary[i];
-            best[i] = weight;
-            primary[i] = e;
-          } else if (weight > second[i]) {
-            second[i] = weight;
-            secondary[i] = e;
-          }
-        }
-      }
-      if (!blend) {
-        for (int i = 0; i < w; ++i) primary[i] = make_entry(offset[i], rest[i]);
-        continue;
-      }
-      uint16_t* pw = &map.primary_weight[static_cast<size_t>(row) * w];
-      for (int i = 0; i < w; ++i) {
-        const float total = best[i] + second[i];
-        pw[i] = secondary[i].cam == kNoCamera || total <= 0
-                    ? 256
-                    : static_cast<uint16_t>(std::lround(256.0f * best[i] / total));
-      }
-    }
+    build_rows(view, setups, blend, map, rows.start, rows.end);
   });
 
   map.camera_used.assign(cameras.size(), false);

@@ -48,6 +48,12 @@ Rig load_rig_yaml(const std::string& path);
 // their keys (cam0, ...); cam0 sits at T_frame_cam0 in `frame`.
 Rig load_kalibr_camchain(const std::string& path, const std::string& frame, const Pose& T_frame_cam0);
 
+// The same from already-parsed YAML (tests, fuzzing, configs that embed a rig); masks are
+// resolved against `folder`.
+class YamlReader;
+Rig parse_rig_yaml(const YamlReader& reader, const std::string& folder);
+Rig parse_kalibr_camchain(const YamlReader& reader, const std::string& frame, const Pose& T_frame_cam0);
+
 // Either format, told apart by content (a camchain has top-level cam0).
 Rig load_rig(const std::string& path, const std::string& camchain_frame = "base_link",
              const Pose& camchain_T_frame_cam0 = Pose::Identity());

@@ -42,7 +42,11 @@ void add_or_fail(const YamlReader& r, const YAML::Node& n, const std::string& pa
 }  // namespace
 
 Rig load_rig_yaml(const std::string& path) {
-  const YamlReader r = YamlReader::from_file(path);
+  return parse_rig_yaml(YamlReader::from_file(path), std::filesystem::path(path).parent_path().string());
+}
+
+Rig parse_rig_yaml(const YamlReader& r, const std::string& folder_name) {
+  const std::string& path = r.file();
   const YAML::Node& root = r.root();
   if (!root.IsMap()) r.fail(root, "", "expected a rig: a map with 'cameras'");
   r.expect_keys(root, "", {"frame", "frames", "cameras"});
@@ -63,7 +67,7 @@ Rig load_rig_yaml(const std::string& path) {
   }
   const YAML::Node cams = r.required(root, "cameras", "");
   if (!cams.IsSequence() || cams.size() == 0) r.fail(cams, "cameras", "expected a non-empty list of cameras");
-  const auto folder = std::filesystem::path(path).parent_path();
+  const std::filesystem::path folder(folder_name);
   for (size_t i = 0; i < cams.size(); ++i) {
     const YAML::Node n = cams[i];
     std::string p = "cameras[" + std::to_string(i) + "]";
@@ -96,7 +100,11 @@ Rig load_rig_yaml(const std::string& path) {
 }
 
 Rig load_kalibr_camchain(const std::string& path, const std::string& frame, const Pose& T_frame_cam0) {
-  const YamlReader r = YamlReader::from_file(path);
+  return parse_kalibr_camchain(YamlReader::from_file(path), frame, T_frame_cam0);
+}
+
+Rig parse_kalibr_camchain(const YamlReader& r, const std::string& frame, const Pose& T_frame_cam0) {
+  const std::string& path = r.file();
   const YAML::Node& root = r.root();
   if (!root.IsMap() || !root["cam0"]) r.fail(root, "", "not a kalibr camchain: expected keys cam0, cam1, ...");
   Rig rig(frame);
@@ -135,8 +143,8 @@ Rig load_kalibr_camchain(const std::string& path, const std::string& frame, cons
 
 Rig load_rig(const std::string& path, const std::string& camchain_frame, const Pose& camchain_T_frame_cam0) {
   const YamlReader r = YamlReader::from_file(path);
-  if (r.root().IsMap() && r.root()["cam0"]) return load_kalibr_camchain(path, camchain_frame, camchain_T_frame_cam0);
-  return load_rig_yaml(path);
+  if (r.root().IsMap() && r.root()["cam0"]) return parse_kalibr_camchain(r, camchain_frame, camchain_T_frame_cam0);
+  return parse_rig_yaml(r, std::filesystem::path(path).parent_path().string());
 }
 
 }  // namespace omniview

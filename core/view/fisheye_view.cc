@@ -39,7 +39,8 @@ void FisheyeView::row_points(int v, float* x, float* y, float* z, uint8_t* valid
   const float oy = static_cast<float>((v - cy_) / f_);
   const float max_theta2 = static_cast<float>(std::min(half_fov_, M_PI) * std::min(half_fov_, M_PI));
   const float r = static_cast<float>(spec_.radius);
-  for (int u = 0; u < width(); ++u) {
+  const int w = width();  // hoisted: `valid` may alias the spec, which would block SIMD
+  for (int u = 0; u < w; ++u) {
     const float ox = (static_cast<float>(u) - cx) * inv_f;
     const float theta2 = ox * ox + oy * oy;
     float cos_theta, sinc_theta;

@@ -56,8 +56,9 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
   return s;
 }
 
-std::vector<ViewSpec> load_views(const std::string& file) {
-  const YamlReader r = YamlReader::from_file(file);
+std::vector<ViewSpec> load_views(const std::string& file) { return parse_views(YamlReader::from_file(file)); }
+
+std::vector<ViewSpec> parse_views(const YamlReader& r) {
   const YAML::Node& root = r.root();
   if (!root.IsMap()) r.fail(root, "", "expected a view (a map with 'type') or 'views: [...]'");
   std::vector<ViewSpec> views;

@@ -20,6 +20,7 @@ ViewSpec parse_view(const YamlReader& reader, const YAML::Node& node, const std:
 
 // A file holding one view, or `views: [...]`. Throws ConfigError naming file, line, key.
 std::vector<ViewSpec> load_views(const std::string& file);
+std::vector<ViewSpec> parse_views(const YamlReader& reader);
 
 // The YAML that parse_view() reads back to `spec` (round-trips).
 YAML::Node view_to_yaml(const ViewSpec& spec);
