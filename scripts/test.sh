@@ -1,7 +1,15 @@
 #!/usr/bin/env bash
-# Installs, builds and runs the whole test suite (CTest), the way CI does.
+# Installs, builds and runs the whole test suite (CTest), the way CI does: first the
+# release build, then the same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 bash scripts/build.sh -DOMNIVIEW_BUILD_TESTS=ON -DOMNIVIEW_BUILD_BENCH=ON
 ctest --test-dir build --output-on-failure -j "$(nproc)"
+
+echo "== the same tests under ASan + UBSan =="
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOMNIVIEW_SANITIZE=ON \
+  -DOMNIVIEW_BUILD_TESTS=ON -DOMNIVIEW_BUILD_BENCH=OFF > /dev/null
+cmake --build build-asan -j "$(nproc)"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build-asan --output-on-failure -j "$(nproc)"

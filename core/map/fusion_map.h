@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/rig/rig.h"
@@ -24,6 +25,7 @@ struct MapEntry {
   uint8_t reserved = 0;
 };
 static_assert(sizeof(MapEntry) == 8);
+static_assert(std::is_trivially_copyable_v<MapEntry>);  // the builder writes it as one 64-bit word
 
 struct FusionMap {
   int width = 0, height = 0;
@@ -43,9 +45,14 @@ struct FusionMap {
   double coverage() const;  // fraction of pixels some camera sees
 };
 
+// kAdaptive (the default) evaluates the camera models exactly on an 8-pixel grid and
+// interpolates inside blocks where that is provably within 0.05 px (see adaptive_rows.cc);
+// kExact evaluates every pixel. Blend maps are always exact.
+enum class MapPrecision { kAdaptive, kExact };
+
 // Builds the map for `view` over `rig`, using the view's fusion policy. Runs on OpenCV's
 // thread pool (cv::setNumThreads sets its size). Throws std::invalid_argument if the
 // view's frame is not connected to the cameras or the rig has more than 254 cameras.
-FusionMap build_map(const Rig& rig, const View& view);
+FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision = MapPrecision::kAdaptive);
 
 }  // namespace omniview
