@@ -94,12 +94,14 @@ Vec3 Scene::colour(const Hit& h) const {
 
 Vec3 Scene::texture(const Vec3& p) {
   const double k = 2 * M_PI;
-  const double b = 128 + 60 * std::sin(k * (0.9 * p.x() + 0.35 * p.y() + 0.2 * p.z())) +
-                   40 * std::sin(k * (1.7 * p.y() - 0.6 * p.z()));
-  const double g = 128 + 60 * std::sin(k * (0.5 * p.x() - 1.1 * p.y() + 0.3 * p.z()) + 1.0) +
-                   35 * std::cos(k * (1.3 * p.z() + 0.4 * p.x()));
-  const double r = 128 + 55 * std::cos(k * (1.2 * p.x() + 0.8 * p.z())) +
-                   45 * std::sin(k * (0.7 * p.y() + 1.5 * p.z()) + 2.0);
+  // Wavelengths from 1.1 m down to 0.2 m: coarse enough to resample cleanly, fine enough
+  // that one pixel of misregistration at a few metres shows.
+  const double b = 128 + 50 * std::sin(k * (0.9 * p.x() + 0.35 * p.y() + 0.2 * p.z())) +
+                   35 * std::sin(k * (1.7 * p.y() - 0.6 * p.z())) + 30 * std::sin(k * (4.1 * p.x() + 2.3 * p.z()));
+  const double g = 128 + 50 * std::sin(k * (0.5 * p.x() - 1.1 * p.y() + 0.3 * p.z()) + 1.0) +
+                   35 * std::cos(k * (1.3 * p.z() + 0.4 * p.x())) + 30 * std::cos(k * (3.7 * p.y() - 2.9 * p.x()));
+  const double r = 128 + 50 * std::cos(k * (1.2 * p.x() + 0.8 * p.z())) +
+                   35 * std::sin(k * (0.7 * p.y() + 1.5 * p.z()) + 2.0) + 30 * std::sin(k * (4.4 * p.z() + 1.9 * p.y()));
   return Vec3(std::clamp(b, 0.0, 255.0), std::clamp(g, 0.0, 255.0), std::clamp(r, 0.0, 255.0));
 }
 
