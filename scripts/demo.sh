@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-bash scripts/build.sh -DOMNIVIEW_BUILD_TESTS=OFF -DOMNIVIEW_BUILD_BENCH=OFF
+bash scripts/build.sh omniview
 
 example=config/examples/dual_fisheye
 out=out/examples

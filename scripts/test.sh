@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-bash scripts/build.sh -DOMNIVIEW_BUILD_TESTS=ON -DOMNIVIEW_BUILD_BENCH=ON
+bash scripts/build.sh
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 
 echo "== the same tests under ASan + UBSan =="

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 #include "core/map/map_kernels.h"
 #include "core/map/multiversion.h"
@@ -82,8 +83,9 @@ class RowSampler {
 // Pixel-by-pixel fallback for the blocks interpolation may not cover.
 class ExactBlocks {
  public:
-  ExactBlocks(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int row_begin, int row_end)
-      : view_(view), setups_(setups), map_(map), row_begin_(row_begin), row_end_(row_end) {}
+  ExactBlocks(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int row_begin, int row_end,
+              std::vector<uint8_t>& used)
+      : view_(view), setups_(setups), map_(map), row_begin_(row_begin), row_end_(row_end), used_(used) {}
 
   // Columns [x_begin, x_end) of every row of the band.
   void compute(int x_begin, int x_end) {
@@ -117,7 +119,10 @@ class ExactBlocks {
         select_nearest(c, static_cast<uint32_t>(ci), n, u, v, score, best_.data(), offset_.data(), rest_.data());
       }
       MapEntry* out = &map_.primary[static_cast<size_t>(y) * map_.width + x_begin];
-      for (int i = 0; i < n; ++i) out[i] = make_entry(offset_[i], rest_[i]);
+      for (int i = 0; i < n; ++i) {
+        out[i] = make_entry(offset_[i], rest_[i]);
+        if (out[i].cam != kNoCamera) used_[out[i].cam] = 1;
+      }
     }
   }
 
@@ -126,6 +131,7 @@ class ExactBlocks {
   const std::vector<CameraSetup>& setups_;
   FusionMap& map_;
   int row_begin_, row_end_;
+  std::vector<uint8_t>& used_;
   std::vector<RowScratch> rows_;
   std::vector<float> best_;
   std::vector<uint32_t> offset_, rest_;
@@ -138,26 +144,22 @@ struct Patch {
   float u00, u10, u01, u11, v00, v10, v01, v11;  // uXY: X = 0 left / 1 right, Y = 0 top / 1 bottom
   int x_begin, x_end, y_begin, y_end;
 
-  // Encodes the patch into `map`: a straight loop per row that GCC vectorises.
-  void fill(const CameraSetup& c, uint32_t cam, FusionMap& map) const {
-    const SampleLimits limits = c.limits;
+  // Writes the patch's source coordinates and camera into band buffers (row stride
+  // `stride`, first row `band_top`); encoding then runs over whole rows at once.
+  void rasterize(uint8_t cam, int band_top, int stride, float* u, float* v, uint8_t* cams) const {
     const float inv_w = 1.0f / static_cast<float>(x1 - x0), inv_h = 1.0f / static_cast<float>(y1 - y0);
     for (int y = y_begin; y < y_end; ++y) {
       const float ty = static_cast<float>(y - y0) * inv_h;
       const float ul = u00 + (u01 - u00) * ty, ur = u10 + (u11 - u10) * ty;
       const float vl = v00 + (v01 - v00) * ty, vr = v10 + (v11 - v10) * ty;
       const float du = (ur - ul) * inv_w, dv = (vr - vl) * inv_w;
-      // Encode into a local buffer first: stores into the map could alias `c` as far as
-      // the compiler knows, which would keep this loop scalar.
-      uint64_t words[2 * kBlock];
-      const int n = x_end - x_begin;
-      for (int i = 0; i < n; ++i) {
-        const float t = static_cast<float>(x_begin - x0 + i);
-        uint32_t rest;
-        const uint32_t offset = encode(limits, ul + du * t, vl + dv * t, cam, rest);
-        words[i] = offset | (uint64_t{rest} << 32);  // MapEntry's layout, little-endian
+      const size_t row = static_cast<size_t>(y - band_top) * stride;
+      for (int x = x_begin; x < x_end; ++x) {
+        const float t = static_cast<float>(x - x0);
+        u[row + x] = ul + du * t;
+        v[row + x] = vl + dv * t;
+        cams[row + x] = cam;
       }
-      std::memcpy(&map.primary[static_cast<size_t>(y) * map.width + x_begin], words, n * sizeof(uint64_t));
     }
   }
 
@@ -178,10 +180,54 @@ struct Patch {
 
 enum class Plan { kWhole, kQuarters, kBlack, kExact };
 
+// Encodes the interpolated pixels of a band. When every camera has the same image size
+// (the usual rig) the limits are one set of constants and each row is a single loop GCC
+// vectorises; mixed sizes take a per-pixel lookup.
+void encode_rows(const std::vector<CameraSetup>& setups, int row_begin, int row_end, const float* u, const float* v,
+                 const uint8_t* cams, FusionMap& map) {
+  bool uniform = true;
+  for (const auto& c : setups) {
+    uniform = uniform && c.limits.width_px == setups[0].limits.width_px && c.limits.max_v == setups[0].limits.max_v;
+  }
+  const int w = map.width;
+  std::vector<uint32_t> words(2 * static_cast<size_t>(w));
+  for (int y = row_begin; y < row_end; ++y) {
+    const size_t row = static_cast<size_t>(y - row_begin) * w;
+    MapEntry* out = &map.primary[static_cast<size_t>(y) * w];
+    if (uniform) {
+      const SampleLimits limits = setups[0].limits;
+      // MapEntry as two 32-bit words: offset, then fx | fy << 8 | cam << 16.
+      uint32_t* __restrict dst = words.data();
+      const uint8_t* __restrict row_cams = cams + row;
+      const float* __restrict row_u = u + row;
+      const float* __restrict row_v = v + row;
+      std::memcpy(dst, out, w * sizeof(uint64_t));  // exact and black blocks are already there
+      for (int x = 0; x < w; ++x) {
+        const uint32_t cam = row_cams[x];
+        uint32_t rest;
+        const uint32_t offset = encode(limits, row_u[x], row_v[x], cam, rest);
+        const uint32_t take = 0u - static_cast<uint32_t>(cam != kNoCamera);  // masks, not ?: (SIMD)
+        dst[2 * x] = (offset & take) | (dst[2 * x] & ~take);
+        dst[2 * x + 1] = (rest & take) | (dst[2 * x + 1] & ~take);
+      }
+      std::memcpy(out, dst, w * sizeof(uint64_t));
+    } else {
+      for (int x = 0; x < w; ++x) {
+        const uint8_t cam = cams[row + x];
+        if (cam == kNoCamera) continue;
+        uint32_t rest;
+        const uint32_t offset = encode(setups[cam].limits, u[row + x], v[row + x], cam, rest);
+        out[x] = make_entry(offset, rest);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 OMNIVIEW_MULTIVERSION
-void build_band_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band) {
+void build_band_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band,
+                         std::vector<uint8_t>& used) {
   const std::vector<int> xs = grid_lines(map.width), ys = grid_lines(map.height);
   const int ya = ys[band], yb = ys[band + 1], yc = (ya + yb) / 2;
   const int row_end = band + 2 == static_cast<int>(ys.size()) ? yb + 1 : yb;  // the last band owns row H-1
@@ -207,7 +253,11 @@ void build_band_adaptive(const View& view, const std::vector<CameraSetup>& setup
                  x_begin, x_end, y_begin, y_end};
   };
 
-  ExactBlocks exact(view, setups, map, ya, row_end);
+  ExactBlocks exact(view, setups, map, ya, row_end, used);
+  // Interpolated pixels: coordinates and camera per pixel of the band; kNoCamera elsewhere.
+  const size_t band_pixels = static_cast<size_t>(row_end - ya) * map.width;
+  std::vector<float> band_u(band_pixels), band_v(band_pixels);
+  std::vector<uint8_t> band_cam(band_pixels, kNoCamera);
   int exact_run_begin = -1;  // consecutive exact blocks are computed as one run
   for (int j = 0; j <= blocks; ++j) {
     Plan plan = Plan::kExact;
@@ -270,12 +320,16 @@ void build_band_adaptive(const View& view, const std::vector<CameraSetup>& setup
     }
     if (plan == Plan::kBlack) {
       for (int y = ya; y < row_end; ++y) {
-        std::fill_n(&map.primary[static_cast<size_t>(y) * map.width + x_begin], x_end - x_begin, MapEntry{});
+        std::fill_n(&map.primary[static_cast<size_t>(y) * map.width + x_begin], x_end - x_begin, kBlackEntry);
       }
       continue;
     }
-    for (const Patch& pt : patches) pt.fill(setups[cam], static_cast<uint32_t>(cam), map);
+    for (const Patch& pt : patches) {
+      pt.rasterize(static_cast<uint8_t>(cam), ya, map.width, band_u.data(), band_v.data(), band_cam.data());
+    }
+    used[cam] = 1;
   }
+  encode_rows(setups, ya, row_end, band_u.data(), band_v.data(), band_cam.data(), map);
 }
 
 }  // namespace omniview::map_internal

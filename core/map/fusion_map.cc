@@ -1,6 +1,7 @@
 #include "core/map/fusion_map.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -78,9 +79,14 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision) {
   map.height = view.height();
   map.fusion = spec.fusion;
   const size_t n = static_cast<size_t>(map.width) * static_cast<size_t>(map.height);
-  map.primary.assign(n, MapEntry{});
+  const bool exact = blend || precision == MapPrecision::kExact || map.width < 2 || map.height < 2;
+  if (exact) {
+    map.primary.assign(n, kBlackEntry);  // the exact builders keep the best candidate so far
+  } else {
+    map.primary.resize(n);  // the adaptive builder writes every entry, in its own thread
+  }
   if (blend) {
-    map.secondary.assign(n, MapEntry{});
+    map.secondary.assign(n, kBlackEntry);
     map.primary_weight.assign(n, 256);
   }
   for (const auto& c : cameras) {
@@ -88,23 +94,38 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision) {
     map.camera_names.push_back(c.name);
   }
 
-  if (blend || precision == MapPrecision::kExact || map.width < 2 || map.height < 2) {
+  // Which cameras the map reads, gathered by each worker from the rows it just wrote.
+  std::vector<std::atomic<bool>> used(cameras.size());
+  const auto mark_used = [&](int row_begin, int row_end) {
+    std::vector<uint8_t> local(cameras.size(), 0);
+    for (const MapEntries* entries : {&map.primary, &map.secondary}) {
+      if (entries->empty()) continue;
+      const MapEntry* e = entries->data() + static_cast<size_t>(row_begin) * map.width;
+      for (size_t i = 0, n = static_cast<size_t>(row_end - row_begin) * map.width; i < n; ++i) {
+        if (e[i].cam != kNoCamera) local[e[i].cam] = 1;
+      }
+    }
+    for (size_t c = 0; c < local.size(); ++c) {
+      if (local[c]) used[c].store(true, std::memory_order_relaxed);
+    }
+  };
+  if (exact) {
     cv::parallel_for_(cv::Range(0, map.height), [&](const cv::Range& rows) {
       build_rows_exact(view, setups, blend, map, rows.start, rows.end);
+      mark_used(rows.start, rows.end);
     });
   } else {
     const int bands = (map.height - 2) / kBlock + 1;  // grid rows 0, 8, ..., H-1 bound them
     cv::parallel_for_(cv::Range(0, bands), [&](const cv::Range& range) {
-      for (int band = range.start; band < range.end; ++band) build_band_adaptive(view, setups, map, band);
+      std::vector<uint8_t> local(cameras.size(), 0);
+      for (int band = range.start; band < range.end; ++band) build_band_adaptive(view, setups, map, band, local);
+      for (size_t c = 0; c < local.size(); ++c) {
+        if (local[c]) used[c].store(true, std::memory_order_relaxed);
+      }
     });
   }
-
-  map.camera_used.assign(cameras.size(), false);
-  for (const auto* entries : {&map.primary, &map.secondary}) {
-    for (const MapEntry& e : *entries) {
-      if (e.cam != kNoCamera) map.camera_used[e.cam] = true;
-    }
-  }
+  map.camera_used.resize(cameras.size());
+  for (size_t c = 0; c < cameras.size(); ++c) map.camera_used[c] = used[c].load();
   return map;
 }
 

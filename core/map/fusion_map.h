@@ -8,7 +8,9 @@
 
 #include <cstdint>
 #include <string>
+#include <memory>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "core/rig/rig.h"
@@ -18,23 +20,46 @@ namespace omniview {
 
 inline constexpr uint8_t kNoCamera = 255;  // so a rig may have up to 254 cameras
 
+// No default member initialisers on purpose: a map's storage is allocated without being
+// written, so each builder thread first-touches its own rows (see UninitializedAllocator).
+// Use kBlackEntry for "no camera".
 struct MapEntry {
-  uint32_t offset = 0;     // y0 * camera_width + x0 of the bilinear footprint's top-left pixel
-  uint8_t fx = 0, fy = 0;  // fractional position inside the footprint, in 1/256 px
-  uint8_t cam = kNoCamera; // index into the rig's cameras; kNoCamera: black
-  uint8_t reserved = 0;
+  uint32_t offset;  // y0 * camera_width + x0 of the bilinear footprint's top-left pixel
+  uint8_t fx, fy;   // fractional position inside the footprint, in 1/256 px
+  uint8_t cam;      // index into the rig's cameras; kNoCamera: black
+  uint8_t reserved;
 };
+inline constexpr MapEntry kBlackEntry{0, 0, 0, kNoCamera, 0};
 static_assert(sizeof(MapEntry) == 8);
 static_assert(std::is_trivially_copyable_v<MapEntry>);  // the builder writes it as one 64-bit word
+
+// Leaves trivially constructible elements uninitialised on resize(): zeroing 8 MB in one
+// thread before a parallel builder overwrites it would cost a third of a map build.
+template <typename T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    if constexpr (sizeof...(Args) == 0) {
+      ::new (static_cast<void*>(p)) U;
+    } else {
+      ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+  }
+};
+using MapEntries = std::vector<MapEntry, UninitializedAllocator<MapEntry>>;
 
 struct FusionMap {
   int width = 0, height = 0;
   Fusion fusion = Fusion::kNearestCentre;
   // Per output pixel, row-major. `primary` is the camera the paper's rule picks (or the
   // heaviest one when blending).
-  std::vector<MapEntry> primary;
+  MapEntries primary;
   // Blend only: a second camera and the primary's weight out of 256 (256: primary alone).
-  std::vector<MapEntry> secondary;
+  MapEntries secondary;
   std::vector<uint16_t> primary_weight;
   // Size of each rig camera's image, as calibrated (apply() checks inputs against it).
   std::vector<cv::Size> camera_sizes;

@@ -71,7 +71,7 @@ inline uint32_t pack_rest(uint32_t fx, uint32_t fy, uint32_t cam) { return fx | 
 inline const uint32_t kNoRest = pack_rest(0, 0, kNoCamera);
 
 inline MapEntry make_entry(uint32_t offset, uint32_t rest) {
-  MapEntry e;
+  MapEntry e = kBlackEntry;
   e.offset = offset;
   e.fx = static_cast<uint8_t>(rest);
   e.fy = static_cast<uint8_t>(rest >> 8);
@@ -127,6 +127,8 @@ void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, 
 // kBlock pixels and interpolated inside blocks where that provably matches (see
 // adaptive_rows.cc); elsewhere exactly.
 inline constexpr int kBlock = 8;
-void build_band_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band);
+// Sets used[c] for every camera c the band reads.
+void build_band_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band,
+                         std::vector<uint8_t>& used);
 
 }  // namespace omniview::map_internal

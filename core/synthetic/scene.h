@@ -16,16 +16,16 @@
 namespace omniview::synthetic {
 
 struct Plane {      // points p with normal . p = offset
-  Vec3 normal;
-  double offset;
+  Vec3 normal = Vec3::UnitZ();
+  double offset = 0;
 };
 struct Sphere {     // |p - centre| = radius, seen from inside or outside
-  Vec3 centre;
-  double radius;
+  Vec3 centre = Vec3::Zero();
+  double radius = 1;
 };
 struct Cylinder {   // vertical: |(p - centre).xy| = radius, z_min <= p.z <= z_max
-  Vec3 centre;
-  double radius, z_min, z_max;
+  Vec3 centre = Vec3::Zero();
+  double radius = 1, z_min = 0, z_max = 1;
 };
 using Shape = std::variant<Plane, Sphere, Cylinder>;
 
