@@ -18,7 +18,7 @@ namespace {
 using namespace map_internal;
 
 
-CameraSetup make_setup(const Rig& rig, size_t index, const View& view, const Pose& T_frame_view,
+CameraSetup make_setup(const Rig& rig, size_t index, const Pose& T_frame_view,
                        const std::string& frame, bool blend, double feather_px) {
   const Camera& cam = rig.cameras()[index];
   CameraSetup s;
@@ -41,7 +41,6 @@ CameraSetup make_setup(const Rig& rig, size_t index, const View& view, const Pos
   s.inv_w = 1.0f / static_cast<float>(cam.width);
   s.inv_h = 1.0f / static_cast<float>(cam.height);
   if (blend) s.feather = feather_weights(cam, feather_px);
-  (void)view;
   return s;
 }
 
@@ -71,7 +70,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision) {
       throw std::invalid_argument("view '" + spec.name + "': frame '" + frame + "' is not connected to camera '" +
                                   cameras[i].name + "'");
     }
-    setups.push_back(make_setup(rig, i, view, T_frame_view, frame, blend, spec.feather_px));
+    setups.push_back(make_setup(rig, i, T_frame_view, frame, blend, spec.feather_px));
   }
 
   FusionMap map;

@@ -48,6 +48,20 @@ Camera camera(const std::string& name, CameraModel model, int w, int h, const Ve
   return c;
 }
 
+// The example rig's panoramas: centred on the lenses, 1 m above base_link, on a sphere of
+// 3 m radius; and the scene that coincides with that sphere.
+ViewSpec example_panorama(int w, int h) {
+  ViewSpec v = view(ViewType::kEquirectangular, w, h);
+  v.position = Vec3(0, 0, 1);
+  v.radius = 3.0;
+  return v;
+}
+Scene sphere_around_example_rig() {
+  Scene scene;
+  scene.add(Sphere{Vec3(0, 0, 1), 3.0});
+  return scene;
+}
+
 // Five greyscale 640x480 pinhole cameras placed like Spot's: two front cameras crossing
 // (frontleft looks front-right), one per side, one at the back, tilted down and rolled as
 // the physical sensors are.
@@ -68,11 +82,8 @@ void report(const std::string& what, const golden::Score& s) {
 
 TEST(Golden, DualFisheyeEquirectangularOnSphere) {
   const Rig rig = golden::example_rig();
-  Scene scene;
-  scene.add(Sphere{Vec3(0, 0, 1), 3.0});  // centred on the camera, radius = view radius
-  ViewSpec v = view(ViewType::kEquirectangular, 720, 360);
-  v.position = Vec3(0, 0, 1);
-  v.radius = 3.0;
+  const Scene scene = sphere_around_example_rig();
+  ViewSpec v = example_panorama(720, 360);
   const auto s = golden::run(scene, rig, v, "base_link");
   report("dual fisheye, equirectangular", s);
   EXPECT_GT(s.psnr_db, kDualFisheyeBoundDb);
@@ -87,11 +98,8 @@ TEST(Golden, NaiveBackToBackStitchMisalignsTheRolledLens) {
     if (c.name == "back") c.T_parent_cam.linear() = rotation_from_ypr(M_PI, 0, 0) * R_view_optical();
     naive.add_camera(c);
   }
-  Scene scene;
-  scene.add(Sphere{Vec3(0, 0, 1), 3.0});
-  ViewSpec v = view(ViewType::kEquirectangular, 720, 360);
-  v.position = Vec3(0, 0, 1);
-  v.radius = 3.0;
+  const Scene scene = sphere_around_example_rig();
+  ViewSpec v = example_panorama(720, 360);
   const auto ours = golden::run(scene, rig, rig, v, "base_link");
   const auto stitched = golden::run(scene, rig, naive, v, "base_link");
   report("calibrated roll", ours);
@@ -185,11 +193,8 @@ TEST(Golden, MercatorAndFisheyeOnSphere) {
 
 TEST(Golden, BlendedFusionMeetsTheSameBound) {
   const Rig rig = golden::example_rig();
-  Scene scene;
-  scene.add(Sphere{Vec3(0, 0, 1), 3.0});
-  ViewSpec v = view(ViewType::kEquirectangular, 720, 360);
-  v.position = Vec3(0, 0, 1);
-  v.radius = 3.0;
+  const Scene scene = sphere_around_example_rig();
+  ViewSpec v = example_panorama(720, 360);
   v.fusion = Fusion::kBlend;
   v.feather_px = 30;
   const auto s = golden::run(scene, rig, v, "base_link");
@@ -208,8 +213,7 @@ TEST(Golden, MaskedHalfIsTakenFromTheOtherCamera) {
     }
     masked.add_camera(c);
   }
-  ViewSpec v = view(ViewType::kEquirectangular, 360, 180);
-  v.position = Vec3(0, 0, 1);
+  const ViewSpec v = example_panorama(360, 180);
   const auto map = build_map(masked, *View::create(v));
   // Straight ahead and 60 deg to the right (u = 3/4 of the width minus a bit): the front
   // lens' masked half; the back lens reaches 105 deg from its axis, i.e. to 75 deg from
@@ -219,21 +223,15 @@ TEST(Golden, MaskedHalfIsTakenFromTheOtherCamera) {
   const int left_60 = static_cast<int>((0.5 - 60.0 / 360) * 360);
   EXPECT_EQ(map.primary[row * 360 + right_80].cam, 1) << "masked front pixel must come from the back lens";
   EXPECT_EQ(map.primary[row * 360 + left_60].cam, 0) << "unmasked front pixel stays with the front lens";
-  Scene scene;
-  scene.add(Sphere{Vec3(0, 0, 1), 3.0});
-  v.radius = 3.0;
-  const auto s = golden::run(scene, masked, v, "base_link");
+  const auto s = golden::run(sphere_around_example_rig(), masked, v, "base_link");
   report("half-masked front lens", s);
   EXPECT_GT(s.psnr_db, 41);  // measured 45.7
 }
 
 TEST(Golden, GreyAndMixedInputs) {
   const Rig rig = golden::example_rig();
-  Scene scene;
-  scene.add(Sphere{Vec3(0, 0, 1), 3.0});
-  ViewSpec v = view(ViewType::kEquirectangular, 360, 180);
-  v.position = Vec3(0, 0, 1);
-  v.radius = 3.0;
+  const Scene scene = sphere_around_example_rig();
+  ViewSpec v = example_panorama(360, 180);
   const auto grey = golden::run(scene, rig, v, "base_link", true, 1);
   report("grey in, grey out", grey);
   EXPECT_GT(grey.psnr_db, kDualFisheyeBoundDb);  // measured 54.3
@@ -257,11 +255,8 @@ TEST(Golden, OnePixelOfCalibrationErrorFailsTheBound) {
     if (c.name == "front") c.T_parent_cam.linear() = rotation_from_ypr(1.0 / 258.0, 0, 0) * c.T_parent_cam.linear();
     off_by_one.add_camera(c);
   }
-  Scene scene;
-  scene.add(Sphere{Vec3(0, 0, 1), 3.0});
-  ViewSpec v = view(ViewType::kEquirectangular, 720, 360);
-  v.position = Vec3(0, 0, 1);
-  v.radius = 3.0;
+  const Scene scene = sphere_around_example_rig();
+  ViewSpec v = example_panorama(720, 360);
   const auto s = golden::run(scene, rig, off_by_one, v, "base_link");
   report("front lens off by one pixel", s);
   EXPECT_LT(s.psnr_db, kDualFisheyeBoundDb);  // measured 40.3
