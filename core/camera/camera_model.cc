@@ -35,7 +35,7 @@ void expect(bool ok, const std::string& what, const std::string& message) {
 }
 
 void check_focal(double fu, double fv, const std::string& what) {
-  expect(fu > 0 && fv > 0, what, "focal lengths fu, fv must be positive, got " +
+  expect(fu > 0 && fv > 0, what, "intrinsics: focal lengths fu, fv must be positive, got " +
                                      std::to_string(fu) + ", " + std::to_string(fv));
 }
 
@@ -78,7 +78,7 @@ CameraModel make_camera_model(const ModelSpec& s, const std::string& what) {
     if (dm == "fov") {
       expect_count(s.distortion, 1, 1, what, "distortion_coeffs", "[w]");
       expect(s.distortion[0] > 0 && s.distortion[0] < M_PI, what,
-             "fov distortion w must be in (0, pi) radians, got " + std::to_string(s.distortion[0]));
+             "distortion_coeffs: fov w must be in (0, pi) radians, got " + std::to_string(s.distortion[0]));
       return Fov(in[0], in[1], in[2], in[3], s.distortion[0]);
     }
     throw std::invalid_argument(what + ": distortion_model '" + dm +
@@ -88,7 +88,7 @@ CameraModel make_camera_model(const ModelSpec& s, const std::string& what) {
   if (cm == "omni") {
     expect_count(in, 5, 5, what, "intrinsics", "[xi, fu, fv, pu, pv]");
     check_focal(in[1], in[2], what);
-    expect(in[0] >= 0, what, "omni xi must be >= 0, got " + std::to_string(in[0]));
+    expect(in[0] >= 0, what, "intrinsics: omni xi must be >= 0, got " + std::to_string(in[0]));
     if (dm == "radtan" || dm == "none") {
       return OmniRadtan(in[0], in[1], in[2], in[3], in[4], radtan_from(spec, what));
     }
@@ -101,14 +101,14 @@ CameraModel make_camera_model(const ModelSpec& s, const std::string& what) {
     if (cm == "ds") {
       expect_count(in, 6, 6, what, "intrinsics", "[xi, alpha, fu, fv, pu, pv]");
       check_focal(in[2], in[3], what);
-      expect(in[1] >= 0 && in[1] <= 1, what, "ds alpha must be in [0, 1], got " + std::to_string(in[1]));
-      expect(in[0] > -1, what, "ds xi must be > -1, got " + std::to_string(in[0]));
+      expect(in[1] >= 0 && in[1] <= 1, what, "intrinsics: ds alpha must be in [0, 1], got " + std::to_string(in[1]));
+      expect(in[0] > -1, what, "intrinsics: ds xi must be > -1, got " + std::to_string(in[0]));
       return DoubleSphere(in[0], in[1], in[2], in[3], in[4], in[5]);
     }
     expect_count(in, 6, 6, what, "intrinsics", "[alpha, beta, fu, fv, pu, pv]");
     check_focal(in[2], in[3], what);
-    expect(in[0] >= 0 && in[0] <= 1, what, "eucm alpha must be in [0, 1], got " + std::to_string(in[0]));
-    expect(in[1] > 0, what, "eucm beta must be > 0, got " + std::to_string(in[1]));
+    expect(in[0] >= 0 && in[0] <= 1, what, "intrinsics: eucm alpha must be in [0, 1], got " + std::to_string(in[0]));
+    expect(in[1] > 0, what, "intrinsics: eucm beta must be > 0, got " + std::to_string(in[1]));
     return Eucm(in[0], in[1], in[2], in[3], in[4], in[5]);
   }
   std::string known;

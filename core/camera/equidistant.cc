@@ -15,10 +15,13 @@ Equidistant::Equidistant(double fu, double fv, double pu, double pv, double k1, 
   };
   max_theta_ = M_PI;
   double lo = 0;
-  for (double t = 1e-3; t <= M_PI; t += 1e-3) {
+  // Steps of 1e-3 up to and including pi itself (an accumulated t += 1e-3 stops short of
+  // it and would miss a turn in the last partial step).
+  for (int i = 1; lo < M_PI; ++i) {
+    const double t = std::min(i * 1e-3, M_PI);
     if (slope(t) <= 0) {
       double hi = t;
-      for (int i = 0; i < 60; ++i) {
+      for (int k = 0; k < 60; ++k) {
         const double mid = 0.5 * (lo + hi);
         (slope(mid) > 0 ? lo : hi) = mid;
       }

@@ -3,7 +3,8 @@
 //   theta = atan2(|(x, y)|, z)      -- not atan(r/z): lenses beyond 180 deg must work
 //   d(theta) = theta (1 + k1 theta^2 + k2 theta^4 + k3 theta^6 + k4 theta^8)
 //   u = fu d (x/r) + pu,  v = fv d (y/r) + pv
-// Imageable: theta up to where d(theta) stops increasing (at most pi).
+// Imageable: theta up to where d(theta) stops increasing (at most pi, but not the point
+// straight behind: at theta = pi the image direction is undefined).
 #pragma once
 
 #include <Eigen/Core>
@@ -28,7 +29,9 @@ class Equidistant {
     const S scale = r > S(1e-12) ? d / r : S(1) / (z > S(0) ? z : S(1));
     u = S(fu_) * x * scale + S(pu_);
     v = S(fv_) * y * scale + S(pv_);
-    return (theta <= S(max_theta_)) & (r2 + z * z > S(0));
+    // On the axis behind the lens (theta = pi) the direction x/r is undefined: the point
+    // images onto the whole rim circle, not the principal point, so it is not imageable.
+    return (theta <= S(max_theta_)) & ((r > S(1e-12)) | (z > S(0)));
   }
   bool unproject(double u, double v, Eigen::Vector3d& ray) const;
 

@@ -25,8 +25,10 @@ struct RadtanDistortion {
     dy = my * radial + S(p1) * (r2 + S(2) * y2) + S(2 * p2) * xy;
   }
 
-  // Inverts distort() by Newton's method; false if it does not converge.
+  // Inverts distort() by Newton's method; false if it does not converge. Models pass their
+  // cached max_radius() as `max_r`; the short form computes it.
   bool undistort(double dx, double dy, double& mx, double& my) const;
+  bool undistort(double dx, double dy, double& mx, double& my, double max_r) const;
 
   // Largest normalised radius up to which r * radial(r) increases (capped at `cap`).
   double max_radius(double cap = 1e3) const;

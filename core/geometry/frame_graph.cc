@@ -27,6 +27,12 @@ bool FrameGraph::has_frame(const std::string& name) const {
   return links_.count(name) || roots_.count(name);
 }
 
+std::optional<std::string> FrameGraph::parent_of(const std::string& name) const {
+  const auto it = links_.find(name);
+  if (it == links_.end()) return std::nullopt;
+  return it->second.parent;
+}
+
 std::vector<std::string> FrameGraph::frames() const {
   std::vector<std::string> out;
   for (const auto& [name, _] : roots_) out.push_back(name);

@@ -20,6 +20,8 @@ class FrameGraph {
   void set_parent(const std::string& child, const std::string& parent, const Pose& T_parent_child);
 
   bool has_frame(const std::string& name) const;
+  // The frame `name` hangs from; nullopt for a root or an unknown frame.
+  std::optional<std::string> parent_of(const std::string& name) const;
   std::vector<std::string> frames() const;
 
   // T_a_b: the pose of frame b in frame a. Throws std::out_of_range naming both frames

@@ -14,9 +14,13 @@ Mat3 rotation_from_ypr(double yaw, double pitch, double roll) {
 }
 
 Eigen::Vector3d ypr_from_rotation(const Mat3& R) {
-  const double pitch = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
+  // cos(pitch) from the first column rather than asin(-R20): near +-90 deg asin loses half
+  // the digits (1e-8 rad), and |R20| < 1 - 1e-12 switched to the gimbal-lock branch (which
+  // drops roll) up to 1.4e-6 rad away from the lock.
+  const double cos_pitch = std::hypot(R(0, 0), R(1, 0));
+  const double pitch = std::atan2(-R(2, 0), cos_pitch);
   double yaw, roll;
-  if (std::abs(R(2, 0)) < 1.0 - 1e-12) {
+  if (cos_pitch > 1e-8) {  // ~sqrt(eps): below it the entries are mostly rounding noise
     yaw = std::atan2(R(1, 0), R(0, 0));
     roll = std::atan2(R(2, 1), R(2, 2));
   } else {  // gimbal lock: only yaw - roll (or yaw + roll) is defined; put it all in yaw

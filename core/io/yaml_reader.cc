@@ -1,12 +1,18 @@
 #include "core/io/yaml_reader.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace omniview {
 
 YamlReader YamlReader::from_file(const std::string& path) {
+  // An ifstream opens a directory without complaint and then reads nothing, which would
+  // surface as a confusing "expected a map" about an empty document.
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw ConfigError(path + ": is a directory, not a file");
   std::ifstream in(path);
   if (!in) throw ConfigError(path + ": cannot open file");
   std::stringstream ss;
@@ -33,15 +39,21 @@ void YamlReader::fail(const YAML::Node& node, const std::string& path, const std
 void YamlReader::expect_keys(const YAML::Node& node, const std::string& path,
                              std::initializer_list<const char*> allowed) const {
   if (!node.IsMap()) fail(node, path, "expected a map");
+  std::map<std::string, int> seen;  // key -> line
   for (const auto& kv : node) {
     const auto key = kv.first.Scalar();
+    const std::string key_path = path.empty() ? key : path + "." + key;
     bool ok = false;
     for (const char* a : allowed) ok = ok || key == a;
     if (!ok) {
       std::string list;
       for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-      fail(kv.first, path.empty() ? key : path + "." + key, "unknown key (expected one of: " + list + ")");
+      fail(kv.first, key_path, "unknown key (expected one of: " + list + ")");
     }
+    // yaml-cpp keeps duplicate keys and node[key] returns the first: an edit to the second
+    // copy would silently do nothing.
+    const auto [it, inserted] = seen.emplace(key, kv.first.Mark().line + 1);
+    if (!inserted) fail(kv.first, key_path, "key given twice (first on line " + std::to_string(it->second) + ")");
   }
 }
 

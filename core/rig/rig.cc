@@ -24,12 +24,21 @@ void Rig::add_camera(Camera camera) {
     throw std::invalid_argument("camera '" + camera.name + "': fov_deg must be in [0, 360]");
   }
   if (camera.parent_frame.empty()) camera.parent_frame = default_frame_;
+  // set_parent() would silently re-hang an existing frame (and everything under it) from
+  // this camera's parent. A frame only named as a parent so far is fine: it gets its link.
+  if (const auto parent = frames_.parent_of(camera.name)) {
+    throw std::invalid_argument("camera '" + camera.name + "': the rig already has a frame of that name (under '" +
+                                *parent + "')");
+  }
   frames_.set_parent(camera.name, camera.parent_frame, camera.T_parent_cam);
   cameras_.push_back(std::move(camera));
 }
 
 void Rig::add_frame(const std::string& child, const std::string& parent, const Pose& T_parent_child) {
   if (find(child)) throw std::invalid_argument("frame '" + child + "' is a camera's name");
+  if (const auto old_parent = frames_.parent_of(child)) {
+    throw std::invalid_argument("frame '" + child + "' is defined twice (already under '" + *old_parent + "')");
+  }
   frames_.set_parent(child, parent, T_parent_child);
 }
 

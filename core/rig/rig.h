@@ -20,9 +20,12 @@ class Rig {
   // Frame that views use when they name none, and cameras hang from by default.
   const std::string& default_frame() const { return default_frame_; }
 
-  // Adds `camera` and its frame link. Throws on a duplicate name, a mask of the wrong
-  // size or type, or an image size < 2 pixels.
+  // Adds `camera` and its frame link. Throws on a duplicate name (another camera, or a
+  // frame that already has a parent), a mask of the wrong size or type, or an image size
+  // < 2 pixels.
   void add_camera(Camera camera);
+  // Adds a frame; throws if `child` is a camera or already has a parent. Live updates of
+  // an existing link go through frames().set_parent().
   void add_frame(const std::string& child, const std::string& parent, const Pose& T_parent_child);
 
   const std::vector<Camera>& cameras() const { return cameras_; }

@@ -1,5 +1,6 @@
 // Loaders for our rig YAML and kalibr camchains.
 #include <filesystem>
+#include <set>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -10,8 +11,7 @@ namespace omniview {
 namespace {
 
 // Reads the kalibr-style model fields shared by both formats.
-void read_model(const YamlReader& r, const YAML::Node& n, const std::string& path, const std::string& what,
-                Camera& cam) {
+void read_model(const YamlReader& r, const YAML::Node& n, const std::string& path, Camera& cam) {
   ModelSpec spec;
   spec.camera_model = r.text(r.required(n, "camera_model", path), path + ".camera_model");
   spec.intrinsics = r.numbers(r.required(n, "intrinsics", path), path + ".intrinsics");
@@ -25,9 +25,22 @@ void read_model(const YamlReader& r, const YAML::Node& n, const std::string& pat
   cam.width = static_cast<int>(res[0]);
   cam.height = static_cast<int>(res[1]);
   try {
-    cam.model = make_camera_model(spec, what);
+    cam.model = make_camera_model(spec, path);
   } catch (const std::invalid_argument& e) {
-    r.fail(n, path, e.what());
+    // The message reads "<path>: <field> ..."; point at the line of the field it names
+    // first (e.g. the intrinsics list with a wrong count), else at the camera.
+    // (No YAML::Node reassignment here: for yaml-cpp that rebinds the node it referred to.)
+    const std::string message = e.what();
+    const char* named = nullptr;
+    size_t first = std::string::npos;
+    for (const char* field : {"camera_model", "intrinsics", "distortion_model", "distortion_coeffs"}) {
+      const size_t pos = message.find(field, path.size());
+      if (pos < first && n[field]) {
+        first = pos;
+        named = field;
+      }
+    }
+    r.fail(named ? n[named] : n, "", message);
   }
 }
 
@@ -46,7 +59,6 @@ Rig load_rig_yaml(const std::string& path) {
 }
 
 Rig parse_rig_yaml(const YamlReader& r, const std::string& folder_name) {
-  const std::string& path = r.file();
   const YAML::Node& root = r.root();
   if (!root.IsMap()) r.fail(root, "", "expected a rig: a map with 'cameras'");
   r.expect_keys(root, "", {"frame", "frames", "cameras"});
@@ -76,7 +88,7 @@ Rig parse_rig_yaml(const YamlReader& r, const std::string& folder_name) {
     Camera cam;
     cam.name = r.text(r.required(n, "name", p), p + ".name");
     p += " (" + cam.name + ")";
-    read_model(r, n, p, path + ": camera '" + cam.name + "'", cam);
+    read_model(r, n, p, cam);
     if (n["parent"]) cam.parent_frame = r.text(n["parent"], p + ".parent");
     if (n["T_parent_cam"] && n["mount"]) r.fail(n, p, "give either T_parent_cam or mount, not both");
     if (n["T_parent_cam"]) {
@@ -93,6 +105,12 @@ Rig parse_rig_yaml(const YamlReader& r, const std::string& folder_name) {
       const auto mask_path = (folder / r.text(n["mask"], p + ".mask")).string();
       cam.mask = cv::imread(mask_path, cv::IMREAD_GRAYSCALE);
       if (cam.mask.empty()) r.fail(n["mask"], p + ".mask", "cannot read mask image '" + mask_path + "'");
+      // Checked here too (Rig::add_camera would) so the message points at the mask's line.
+      if (cam.mask.cols != cam.width || cam.mask.rows != cam.height) {
+        r.fail(n["mask"], p + ".mask",
+               "mask '" + mask_path + "' is " + std::to_string(cam.mask.cols) + "x" + std::to_string(cam.mask.rows) +
+                   ", must be the camera's resolution " + std::to_string(cam.width) + "x" + std::to_string(cam.height));
+      }
     }
     add_or_fail(r, n, p, rig, std::move(cam));
   }
@@ -104,15 +122,37 @@ Rig load_kalibr_camchain(const std::string& path, const std::string& frame, cons
 }
 
 Rig parse_kalibr_camchain(const YamlReader& r, const std::string& frame, const Pose& T_frame_cam0) {
-  const std::string& path = r.file();
   const YAML::Node& root = r.root();
   if (!root.IsMap() || !root["cam0"]) r.fail(root, "", "not a kalibr camchain: expected keys cam0, cam1, ...");
   Rig rig(frame);
   Pose T_frame_prev = T_frame_cam0;
   size_t count = 0;
+  // Every top-level key must be camN (N without leading zeros), each once, with no gaps.
+  const auto cam_index = [](const std::string& key) -> long {
+    if (key.size() < 4 || key.size() > 9 || key.rfind("cam", 0) != 0 || (key[3] == '0' && key.size() > 4)) return -1;
+    for (size_t i = 3; i < key.size(); ++i) {
+      if (key[i] < '0' || key[i] > '9') return -1;
+    }
+    return std::stol(key.substr(3));
+  };
+  std::set<long> indices;
   for (const auto& kv : root) {
     const std::string key = kv.first.Scalar();
-    if (key.rfind("cam", 0) != 0) r.fail(kv.first, key, "unexpected top-level key in a camchain");
+    const long index = cam_index(key);
+    if (index < 0) r.fail(kv.first, key, "unexpected top-level key in a camchain (expected cam0, cam1, ...)");
+    if (!indices.insert(index).second) r.fail(kv.first, key, "key given twice");
+  }
+  long missing = 0;
+  while (indices.count(missing)) ++missing;
+  if (const auto after = indices.upper_bound(missing); after != indices.end()) {
+    // Reported at the first camera past the gap.
+    const std::string key = "cam" + std::to_string(*after);
+    for (const auto& kv : root) {
+      if (kv.first.Scalar() == key) {
+        r.fail(kv.first, key, "camchain cameras must be numbered cam0, cam1, ... without gaps: cam" +
+                                  std::to_string(missing) + " is missing");
+      }
+    }
   }
   for (;; ++count) {
     const std::string key = "cam" + std::to_string(count);
@@ -122,7 +162,7 @@ Rig parse_kalibr_camchain(const YamlReader& r, const std::string& frame, const P
                            "T_cn_cnm1", "T_cam_imu", "rostopic", "cam_overlaps", "timeshift_cam_imu"});
     Camera cam;
     cam.name = key;
-    read_model(r, n, key, path + ": " + key, cam);
+    read_model(r, n, key, cam);
     cam.parent_frame = frame;
     if (count == 0) {
       cam.T_parent_cam = T_frame_cam0;
@@ -133,10 +173,6 @@ Rig parse_kalibr_camchain(const YamlReader& r, const std::string& frame, const P
     }
     T_frame_prev = cam.T_parent_cam;
     add_or_fail(r, n, key, rig, std::move(cam));
-  }
-  if (root.size() != count) {
-    r.fail(root, "", "camchain keys must be cam0..cam" + std::to_string(count - 1) +
-                         " without gaps; found " + std::to_string(root.size()) + " entries");
   }
   return rig;
 }

@@ -20,8 +20,10 @@ struct RenderOptions {
 cv::Mat render_camera(const Scene& scene, const Rig& rig, size_t index, const std::string& world_frame,
                       const RenderOptions& options = {});
 
-// The texture at every view pixel's surface point (CV_8UC3 BGR), and in `on_surface`
-// (CV_8UC1, 255/0) where the view has a surface point at all. T_world_view places the view.
+// The golden reference: Scene::texture at every view pixel's surface point (CV_8UC3 BGR),
+// and in `on_surface` (CV_8UC1, 255/0) where the view has a surface point at all.
+// T_world_view places the view. It equals what the cameras see of a scene with default
+// materials whose geometry is the view's surface (Scene::matching).
 cv::Mat texture_at_view(const View& view, const Pose& T_world_view, cv::Mat* on_surface = nullptr);
 
 }  // namespace omniview::synthetic

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <type_traits>
 
 namespace omniview::synthetic {
@@ -9,11 +10,35 @@ namespace {
 
 constexpr double kEps = 1e-9;
 
+bool inside(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  return (p.array() >= lo.array() - kEps).all() && (p.array() <= hi.array() + kEps).all();
+}
+
 std::optional<double> hit(const Plane& s, const Vec3& o, const Vec3& d) {
   const double denom = s.normal.dot(d);
-  if (std::abs(denom) < 1e-12) return std::nullopt;
+  if (std::abs(denom) < 1e-15) return std::nullopt;
   const double t = (s.offset - s.normal.dot(o)) / denom;
-  return t > kEps ? std::optional(t) : std::nullopt;
+  if (!(t > kEps) || !inside(o + t * d, s.lo, s.hi)) return std::nullopt;
+  return t;
+}
+
+// Slab test: entering the box from outside, or leaving it from inside.
+std::optional<double> hit(const Box& b, const Vec3& o, const Vec3& d) {
+  double t_in = -kUnbounded, t_out = kUnbounded;
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(d[i]) < 1e-15) {
+      if (o[i] < b.lo[i] || o[i] > b.hi[i]) return std::nullopt;  // parallel to and outside this slab
+      continue;
+    }
+    double t0 = (b.lo[i] - o[i]) / d[i], t1 = (b.hi[i] - o[i]) / d[i];
+    if (t0 > t1) std::swap(t0, t1);
+    t_in = std::max(t_in, t0);
+    t_out = std::min(t_out, t1);
+  }
+  if (t_in > t_out) return std::nullopt;
+  if (t_in > kEps) return t_in;
+  if (t_out > kEps) return t_out;
+  return std::nullopt;
 }
 
 // Smallest root t > eps of a t^2 + 2 b t + c = 0 that `accept` takes.
@@ -43,80 +68,92 @@ std::optional<double> hit(const Cylinder& s, const Vec3& o, const Vec3& d) {
                       });
 }
 
-}  // namespace
-
-Scene& Scene::add(const Shape& shape) {
-  shapes_.push_back(shape);
-  return *this;
-}
-
-std::optional<Hit> Scene::intersect(const Vec3& origin, const Vec3& dir) const {
-  std::optional<double> best;
-  const Shape* best_shape = nullptr;
-  for (const auto& shape : shapes_) {
-    const auto t = std::visit([&](const auto& s) { return hit(s, origin, dir); }, shape);
-    if (t && (!best || *t < *best)) best = t, best_shape = &shape;
-  }
-  if (!best) return std::nullopt;
-  Hit h;
-  h.point = origin + *best * dir;
-  h.normal = std::visit(
+Vec3 normal_at(const Shape& shape, const Vec3& p) {
+  return std::visit(
       [&](const auto& s) -> Vec3 {
         using S = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<S, Plane>) {
           return s.normal.normalized();
+        } else if constexpr (std::is_same_v<S, Box>) {
+          // The face the point lies on: the axis along which it is closest to lo or hi.
+          const Vec3 to_face = (p - s.lo).cwiseAbs().cwiseMin((p - s.hi).cwiseAbs());
+          int axis = 0;
+          to_face.minCoeff(&axis);
+          return Vec3::Unit(axis);
         } else if constexpr (std::is_same_v<S, Sphere>) {
-          return (h.point - s.centre).normalized();
+          return (p - s.centre).normalized();
         } else {
-          return Vec3(h.point.x() - s.centre.x(), h.point.y() - s.centre.y(), 0).normalized();
+          return Vec3(p.x() - s.centre.x(), p.y() - s.centre.y(), 0).normalized();
         }
       },
-      *best_shape);
+      shape);
+}
+
+}  // namespace
+
+std::optional<Hit> Scene::intersect(const Vec3& origin, const Vec3& dir) const {
+  std::optional<double> best;
+  size_t best_index = 0;
+  for (size_t i = 0; i < shapes_.size(); ++i) {
+    const auto t = std::visit([&](const auto& s) { return hit(s, origin, dir); }, shapes_[i]);
+    if (t && (!best || *t < *best)) best = t, best_index = i;
+  }
+  if (!best) return std::nullopt;
+  Hit h;
+  h.t = *best;
+  h.point = origin + *best * dir;
+  h.shape = best_index;
+  h.normal = normal_at(shapes_[best_index], h.point);
   if (h.normal.dot(dir) > 0) h.normal = -h.normal;
   return h;
 }
 
-Vec3 Scene::colour(const Hit& h) const {
-  const Vec3 base = texture(h.point);
-  if (!decorated_) return base;
-  // Half the contrast around a warm grey, soft dark lines on a 1 m grid, light from above.
-  Vec3 c = 0.5 * base + 0.5 * Vec3(150, 160, 170);
-  double line = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    if (std::abs(h.normal[axis]) > 0.9) continue;  // no lines across the surface's own normal
-    const double f = h.point[axis] - std::floor(h.point[axis]);
-    const double d = std::min(f, 1 - f);
-    line = std::max(line, std::exp(-(d * d) / (2 * 0.015 * 0.015)));
-  }
-  const double light = 0.65 + 0.35 * std::abs(h.normal.dot(Vec3(0.3, 0.2, 0.93).normalized()));
-  return (c * (1 - 0.7 * line)) * light;
+bool Scene::intersect(const Vec3& origin, const Vec3& dir, double& t, Vec3& point) const {
+  const auto h = intersect(origin, dir);
+  if (!h) return false;
+  t = h->t;
+  point = h->point;
+  return true;
 }
 
-Vec3 Scene::texture(const Vec3& p) {
-  const double k = 2 * M_PI;
-  // Wavelengths from 1.1 m down to 0.2 m: coarse enough to resample cleanly, fine enough
-  // that one pixel of misregistration at a few metres shows.
-  const double b = 128 + 50 * std::sin(k * (0.9 * p.x() + 0.35 * p.y() + 0.2 * p.z())) +
-                   35 * std::sin(k * (1.7 * p.y() - 0.6 * p.z())) + 30 * std::sin(k * (4.1 * p.x() + 2.3 * p.z()));
-  const double g = 128 + 50 * std::sin(k * (0.5 * p.x() - 1.1 * p.y() + 0.3 * p.z()) + 1.0) +
-                   35 * std::cos(k * (1.3 * p.z() + 0.4 * p.x())) + 30 * std::cos(k * (3.7 * p.y() - 2.9 * p.x()));
-  const double r = 128 + 50 * std::cos(k * (1.2 * p.x() + 0.8 * p.z())) +
-                   35 * std::sin(k * (0.7 * p.y() + 1.5 * p.z()) + 2.0) + 30 * std::sin(k * (4.4 * p.z() + 1.9 * p.y()));
-  return Vec3(std::clamp(b, 0.0, 255.0), std::clamp(g, 0.0, 255.0), std::clamp(r, 0.0, 255.0));
-}
-
-Scene Scene::room() {
+Scene Scene::plane(const Vec3& normal, double offset) {
   Scene s;
-  s.decorated();
-  s.add(Plane{Vec3::UnitZ(), 0.0})     // floor
-      .add(Plane{Vec3::UnitZ(), 3.0})  // ceiling
-      .add(Plane{Vec3::UnitX(), 4.5})
-      .add(Plane{Vec3::UnitX(), -3.5})
-      .add(Plane{Vec3::UnitY(), 3.0})
-      .add(Plane{Vec3::UnitY(), -2.5})
-      .add(Cylinder{Vec3(2.0, 1.2, 0), 0.25, 0.0, 3.0})
-      .add(Cylinder{Vec3(-1.5, -1.4, 0), 0.3, 0.0, 3.0});
+  s.add(Plane{normal, offset});
   return s;
+}
+
+Scene Scene::cylinder(double radius, const Vec3& axis_point) {
+  Scene s;
+  s.add(Cylinder{axis_point, radius, -1e6, 1e6});  // tall enough for any view's rows
+  return s;
+}
+
+Scene Scene::sphere(double radius, const Vec3& centre) {
+  Scene s;
+  s.add(Sphere{centre, radius});
+  return s;
+}
+
+Scene Scene::matching(const ViewSpec& view, const Pose& T_world_frame) {
+  const Pose T_world_view = T_world_frame * view.T_frame_view();
+  switch (view.type) {
+    case ViewType::kPerspective: {
+      const Vec3 n = T_world_view.linear().col(0);  // the plane x = distance of the view frame
+      return plane(n, n.dot(T_world_view.translation()) + view.distance);
+    }
+    case ViewType::kBirdseye: {
+      const Vec3 n = T_world_frame.linear().col(2);  // the plane z = ground_z of the view's frame
+      return plane(n, n.dot(T_world_frame.translation()) + view.ground_z);
+    }
+    case ViewType::kCylindrical:
+      if (std::abs(T_world_view.linear().col(2).z()) < 1 - 1e-9) {
+        throw std::invalid_argument("Scene::matching: cylindrical view '" + view.name +
+                                    "' is tilted; synthetic cylinders are vertical");
+      }
+      return cylinder(view.radius, T_world_view.translation());
+    default:
+      return sphere(view.radius, T_world_view.translation());
+  }
 }
 
 }  // namespace omniview::synthetic

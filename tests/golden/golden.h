@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <opencv2/core/mat.hpp>
 
@@ -14,23 +15,61 @@
 
 namespace omniview::golden {
 
+// What the cameras deliver. kMixed: even-indexed cameras greyscale, odd ones BGR.
+enum class Inputs { kColour, kGrey, kMixed };
+
+struct CameraScore {
+  std::string name;
+  size_t pixels = 0;    // view pixels this camera is the primary source of
+  double psnr_db = 0;   // over those pixels
+};
+
 struct Score {
   double psnr_db = 0;   // over pixels the map covers and the view has a surface point
   double coverage = 0;  // fraction of the view's surface pixels some camera covers
+  std::vector<CameraScore> cameras;  // per rig camera, in rig order
   cv::Mat rendered, reference;
 };
 
 // `render_rig` renders the camera images; `map_rig` (usually the same) builds the map, so a
 // test can feed a wrong calibration and see the damage. The scene is in `world_frame`.
+// Where a greyscale camera feeds a colour output, the reference is the luma in every
+// channel (what apply_map delivers); with kMixed inputs use nearest fusion.
 Score run(const synthetic::Scene& scene, const Rig& render_rig, const Rig& map_rig, const ViewSpec& view,
-          const std::string& world_frame, bool grey_cameras = false, int out_channels = 3);
+          const std::string& world_frame, Inputs inputs = Inputs::kColour, int out_channels = 3);
 
 inline Score run(const synthetic::Scene& scene, const Rig& rig, const ViewSpec& view, const std::string& world_frame,
-                 bool grey_cameras = false, int out_channels = 3) {
-  return run(scene, rig, rig, view, world_frame, grey_cameras, out_channels);
+                 Inputs inputs = Inputs::kColour, int out_channels = 3) {
+  return run(scene, rig, rig, view, world_frame, inputs, out_channels);
 }
 
-// The bundled example rig (two 210 deg fisheyes, the back one rolled 3 deg).
+// The scene coinciding with `view`'s surface, the view's frame looked up in `rig`.
+synthetic::Scene matching_scene(const Rig& rig, const ViewSpec& view, const std::string& world_frame);
+
+// Prints the overall and per-camera figures (the thresholds' comments quote them).
+void report(const std::string& what, const Score& s);
+
+// A view spec of the given type and size, everything else default.
+ViewSpec view(ViewType type, int width, int height);
+
+// A camera mounted like a view (x = optical axis, y left, z up), angles in degrees.
+Camera camera(const std::string& name, CameraModel model, int width, int height, const Vec3& xyz, double yaw_deg,
+              double pitch_deg, double roll_deg, double fov_deg = 0);
+
+// The bundled example rig (config/examples/dual_fisheye: two 210 deg fisheyes, the back
+// one rolled 3 deg), its panoramas (centred on the lenses 1 m above base_link, radius 3 m)
+// and a copy with one camera's calibration replaced.
+std::string example_dir();
 Rig example_rig();
+ViewSpec example_panorama(int width, int height);
+Rig with_camera_pose(const Rig& rig, const std::string& name, const Pose& T_parent_cam);
+
+// Five greyscale 640x480 pinholes placed like Spot's body cameras, in frame "body"
+// 0.5 m above the ground.
+Rig spot_like_rig();
+
+// Five cameras around and above a point 1 m over base_link, one per model: omni+radtan,
+// double sphere, EUCM, FOV, pinhole+radtan (with k3).
+Rig mixed_model_ring();
 
 }  // namespace omniview::golden
