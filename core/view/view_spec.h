@@ -27,6 +27,9 @@ struct ViewSpec {
   ViewType type = ViewType::kPerspective;
   int width = 1024;
   int height = 512;
+  // The daemon source whose cameras the view fuses (empty: its first source). Offline
+  // rendering has one rig and ignores it.
+  std::string source;
 
   // Pose of the view frame (x = viewing direction, y left, z up) in `frame`.
   std::string frame;  // empty: the rig's default frame

@@ -5,7 +5,7 @@ namespace omniview {
 ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string& path) {
   r.expect_keys(n, path, {"name", "type", "width", "height", "frame", "pose", "hfov_deg", "distance", "height_m",
                           "ground_z", "radius", "vfov_deg", "azimuth_span_deg", "lat_min_deg", "lat_max_deg",
-                          "fov_deg", "fusion", "feather_px"});
+                          "fov_deg", "fusion", "feather_px", "source"});
   ViewSpec s;
   const auto key = [&](const char* k) { return path.empty() ? std::string(k) : path + "." + k; };
   s.type = [&] {
@@ -22,6 +22,7 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
   if (n["width"]) s.width = r.integer(n["width"], key("width"));
   if (n["height"]) s.height = r.integer(n["height"], key("height"));
   if (n["frame"]) s.frame = r.text(n["frame"], key("frame"));
+  if (n["source"]) s.source = r.text(n["source"], key("source"));
   if (const YAML::Node pose = n["pose"]) {
     r.expect_keys(pose, key("pose"), {"xyz", "ypr_deg"});
     if (pose["xyz"]) {
@@ -84,6 +85,7 @@ YAML::Node view_to_yaml(const ViewSpec& s) {
   n["type"] = to_string(s.type);
   n["width"] = s.width;
   n["height"] = s.height;
+  if (!s.source.empty()) n["source"] = s.source;
   if (!s.frame.empty()) n["frame"] = s.frame;
   n["pose"]["xyz"] = std::vector<double>{s.position.x(), s.position.y(), s.position.z()};
   n["pose"]["ypr_deg"] = std::vector<double>{s.yaw_deg, s.pitch_deg, s.roll_deg};

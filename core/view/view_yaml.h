@@ -1,7 +1,7 @@
 // View definitions in YAML: the schema the CLI's --view files and the daemon's config
 // share. One view per file, or a list under `views:`. Keys (all but `type` optional):
-//   name, type, width, height, frame, pose: {xyz: [x, y, z], ypr_deg: [yaw, pitch, roll]},
-//   hfov_deg, distance, height, ground_z, radius, vfov_deg, azimuth_span_deg,
+//   name, type, source, width, height, frame, pose: {xyz: [x, y, z], ypr_deg: [yaw, pitch, roll]},
+//   hfov_deg, distance, height_m, ground_z, radius, vfov_deg, azimuth_span_deg,
 //   lat_min_deg, lat_max_deg, fov_deg, fusion (nearest | blend), feather_px
 #pragma once
 

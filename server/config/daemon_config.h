@@ -1,0 +1,86 @@
+// omniviewd's configuration file (see config/omniviewd.yaml for a commented example).
+//
+//   listen: 127.0.0.1:50051
+//   tls: {cert: server.crt, key: server.key, client_ca: clients.crt}   # optional
+//   tokens:                                                           # optional
+//     - {role: operator, token_file: operator.token}    # or token_env: NAME, or token: TEXT
+//     - {role: viewer, token_file: viewer.token}
+//   allow_insecure_remote: false   # plaintext on a non-loopback address needs this
+//   limits: {max_view_pixels, max_views, max_streams_per_client, max_streams,
+//            max_message_bytes, max_rate_hz}
+//   sources:
+//     - {name: examples, type: images, ...}          # the type's own keys, see source types
+//   views:                                            # the view YAML schema, plus `source`
+//     - {name: front, type: perspective, ...}
+//
+// Relative paths resolve against the config file's folder. Every error names the file, the
+// line and the key, and the daemon refuses to start.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "core/io/yaml_reader.h"
+#include "core/view/view_spec.h"
+
+namespace omniview {
+
+enum class Role { kViewer, kOperator };
+std::string to_string(Role role);
+
+struct TlsConfig {
+  std::string cert_file;       // PEM server certificate (chain)
+  std::string key_file;        // PEM private key
+  std::string client_ca_file;  // optional: require client certificates signed by it
+};
+
+struct TokenConfig {
+  std::string token;  // the secret itself (read from token_file/token_env at load time)
+  Role role = Role::kViewer;
+  std::string label;  // where it came from ("tokens[1] (operator.token)"), for logs; never the secret
+};
+
+struct Limits {
+  int64_t max_view_pixels = 4096LL * 4096;  // width * height of one view
+  int max_views = 32;
+  int max_streams_per_client = 8;           // concurrent frame streams from one peer
+  int max_streams = 64;                     // concurrent frame streams in all
+  int max_message_bytes = 64 << 20;         // largest gRPC message either way
+  double max_rate_hz = 60;                  // cap on a stream's max_rate_hz
+};
+
+struct SourceEntry {
+  std::string name;
+  std::string type;
+  YAML::Node node;   // the source's map (its type's keys are read by the source factory)
+  std::string path;  // YAML path, e.g. "sources[0]"
+};
+
+struct DaemonConfig {
+  std::string file;    // the config file, for messages
+  std::string folder;  // relative paths resolve against it
+  std::string listen = "127.0.0.1:50051";
+  std::optional<TlsConfig> tls;
+  std::vector<TokenConfig> tokens;  // empty: no authentication (every caller is an operator)
+  bool allow_insecure_remote = false;
+  Limits limits;
+  std::vector<SourceEntry> sources;  // at least one
+  std::vector<ViewSpec> views;       // each view's `source` is set (defaults to the first source)
+  std::shared_ptr<const YamlReader> reader;  // keeps the nodes above readable, for errors
+};
+
+// Loads and checks a config file: keys, types, files that must exist, roles, limits, view
+// definitions (validated, and within the limits), unique source and view names, and that a
+// non-loopback listen address has TLS and tokens or allow_insecure_remote. Throws
+// ConfigError "file:line: key: message".
+DaemonConfig load_daemon_config(const std::string& path);
+DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& folder);
+
+// True for 127.0.0.0/8, ::1, localhost (and unix: sockets).
+bool is_loopback_address(const std::string& listen);
+
+}  // namespace omniview

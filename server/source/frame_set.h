@@ -1,0 +1,37 @@
+// One synchronised set of camera images, as a source delivers it to the pipeline.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "core/rig/rig.h"
+
+namespace omniview {
+
+// The bytes a source received for one image, when it received encoded data (a robot's
+// JPEG): recording keeps them as they are instead of re-encoding.
+struct EncodedImage {
+  std::string format;          // "jpeg" or "png"; empty: none kept
+  std::shared_ptr<const std::vector<uint8_t>> bytes;
+};
+
+struct FrameSet {
+  uint64_t sequence = 0;  // per source, increasing
+  std::chrono::system_clock::time_point capture_time;  // of the images (robot clock if known)
+  std::chrono::steady_clock::time_point arrival;       // when the daemon had them: latency starts here
+  // The rig the images belong to, and its version: a change (new extrinsics, say) makes
+  // the pipeline rebuild the maps of the views that use it.
+  std::shared_ptr<const Rig> rig;
+  uint64_t rig_version = 0;
+  // One per rig camera, in rig order; CV_8UC1 or CV_8UC3 (BGR). An empty Mat: the camera
+  // was not pulled this cycle (no active view needs it).
+  std::vector<cv::Mat> images;
+  std::vector<EncodedImage> encoded;  // empty, or one per image
+};
+
+}  // namespace omniview

@@ -1,0 +1,53 @@
+// Where frame sets come from: a robot, a camera, a recording. The server knows sources only
+// through this interface and the registry (source_registry.h), so adapters for Spot, the
+// Insta360 Air or a lidar plug in without touching it.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "server/source/frame_set.h"
+
+namespace omniview {
+
+struct SourceHealth {
+  bool connected = false;
+  uint64_t frames = 0;   // frame sets delivered
+  uint64_t errors = 0;   // bad images/responses skipped
+  std::string message;   // the last problem, for a person to read; empty when all is well
+};
+
+class Source {
+ public:
+  using FrameCallback = std::function<void(std::shared_ptr<const FrameSet>)>;
+
+  virtual ~Source() = default;
+
+  const std::string& name() const { return name_; }
+  virtual std::string type() const = 0;
+
+  // The current rig (cameras and frames). Never null once construction succeeded.
+  virtual std::shared_ptr<const Rig> rig() const = 0;
+
+  // Starts delivering frame sets to `on_frame` from the source's own thread(s). The
+  // callback must return quickly (the pipeline queues and drops, it never blocks).
+  virtual void start(FrameCallback on_frame) = 0;
+  // Stops and joins; no callback runs after it returns. Safe to call twice.
+  virtual void stop() = 0;
+
+  // Which rig cameras some active view needs (rig order). A source that can choose what
+  // to fetch (a robot over Wi-Fi) should fetch only these, and nothing when none is set.
+  virtual void set_wanted_cameras(const std::vector<bool>& wanted) { (void)wanted; }
+
+  virtual SourceHealth health() const = 0;
+
+ protected:
+  explicit Source(std::string name) : name_(std::move(name)) {}
+
+ private:
+  std::string name_;
+};
+
+}  // namespace omniview
