@@ -1,9 +1,14 @@
-// omniview: the command-line tool. Subcommands live in their own files.
+// omniview: the command-line tool. Subcommands live in their own files: `render` works
+// offline, the others talk to the daemon omniviewd (cli/client/).
+#include <functional>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "cli/args.h"
+#include "cli/client/client_commands.h"
+#include "cli/client/connection.h"
 #include "cli/render_command.h"
 #include "core/io/yaml_reader.h"
 
@@ -14,8 +19,32 @@ constexpr const char* kUsage = R"(usage: omniview COMMAND [options]
 commands:
   render    compute views offline from a rig and images (omniview render --help)
 
+talking to omniviewd:
+  cameras   the cameras of the daemon's sources, with calibration and pose
+  views     list, get, create, update or delete views (views --help)
+  ptz       pan, tilt and zoom a view, absolutely or by steps
+  snapshot  save the next frame of a view (-o out.png|.jpg|.raw)
+  watch     live frame rate, latency, size and drops of a view
+  stream    save N frames of a view to a folder, with an index
+  status    the daemon's sources, views and clients
+  record    record what a source delivers, for the replay source
+
+Connection options of those commands: --server HOST:PORT (or OMNIVIEW_SERVER; default
+127.0.0.1:50051), --tls-ca FILE, --token-file FILE (or OMNIVIEW_TOKEN).
+
 Run 'omniview COMMAND --help' for a command's options.
 )";
+
+using Command = std::function<int(const std::vector<std::string>&)>;
+
+const std::map<std::string, Command>& commands() {
+  namespace cli = omniview::cli;
+  static const std::map<std::string, Command> table{
+      {"render", cli::render_command}, {"cameras", cli::cameras_command},   {"views", cli::views_command},
+      {"ptz", cli::ptz_command},       {"snapshot", cli::snapshot_command}, {"watch", cli::watch_command},
+      {"stream", cli::stream_command}, {"status", cli::status_command},     {"record", cli::record_command}};
+  return table;
+}
 
 }  // namespace
 
@@ -28,12 +57,16 @@ int main(int argc, char** argv) {
   const std::string command = args[0];
   const std::vector<std::string> rest(args.begin() + 1, args.end());
   try {
-    if (command == "render") return omniview::cli::render_command(rest);
+    const auto it = commands().find(command);
+    if (it != commands().end()) return it->second(rest);
     std::cerr << "omniview: unknown command '" << command << "'\n\n" << kUsage;
     return 2;
   } catch (const omniview::cli::UsageError& e) {
     std::cerr << "omniview " << command << ": " << e.what() << "\n";
     return 2;
+  } catch (const omniview::cli::RpcError& e) {
+    std::cerr << "omniview " << command << ": " << e.what() << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "omniview " << command << ": error: " << e.what() << "\n";
     return 1;

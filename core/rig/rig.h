@@ -61,4 +61,11 @@ Rig parse_kalibr_camchain(const YamlReader& reader, const std::string& frame, co
 Rig load_rig(const std::string& path, const std::string& camchain_frame = "base_link",
              const Pose& camchain_T_frame_cam0 = Pose::Identity());
 
+// `rig` in our rig YAML schema, which parse_rig_yaml reads back exactly (poses as 4x4
+// T_parent_cam / T_parent_frame matrices at full precision). Masks are not embedded.
+std::string rig_to_yaml(const Rig& rig);
+// Writes rig_to_yaml(rig) to `path`, plus each camera's mask as <camera>_mask.png beside
+// it (referenced as `mask:`). Throws std::runtime_error naming the file on failure.
+void save_rig_yaml(const Rig& rig, const std::string& path);
+
 }  // namespace omniview

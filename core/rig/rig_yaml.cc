@@ -1,5 +1,6 @@
 // Loaders for our rig YAML and kalibr camchains.
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include <opencv2/imgcodecs.hpp>
@@ -181,6 +182,92 @@ Rig load_rig(const std::string& path, const std::string& camchain_frame, const P
   const YamlReader r = YamlReader::from_file(path);
   if (r.root().IsMap() && r.root()["cam0"]) return parse_kalibr_camchain(r, camchain_frame, camchain_T_frame_cam0);
   return parse_rig_yaml(r, std::filesystem::path(path).parent_path().string());
+}
+
+namespace {
+
+void emit_numbers(YAML::Emitter& out, const std::vector<double>& values) {
+  out << YAML::Flow << YAML::BeginSeq;
+  for (double v : values) out << v;
+  out << YAML::EndSeq;
+}
+
+// As a 4x4 matrix: exact at full precision, where ypr or a quaternion would round.
+void emit_pose(YAML::Emitter& out, const Pose& T) {
+  const Mat4 m = T.matrix();
+  out << YAML::BeginSeq;
+  for (int r = 0; r < 4; ++r) emit_numbers(out, {m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
+  out << YAML::EndSeq;
+}
+
+// `mask_files`: per camera, the file name to reference, or empty for none.
+std::string rig_yaml_text(const Rig& rig, const std::vector<std::string>& mask_files) {
+  YAML::Emitter out;
+  out.SetDoublePrecision(17);
+  out << YAML::BeginMap << YAML::Key << "frame" << YAML::Value << rig.default_frame();
+  std::vector<std::string> extra;
+  for (const auto& frame : rig.frames().frames()) {
+    if (!rig.find(frame) && rig.frames().parent_of(frame)) extra.push_back(frame);
+  }
+  if (!extra.empty()) {
+    out << YAML::Key << "frames" << YAML::Value << YAML::BeginSeq;
+    for (const auto& frame : extra) {
+      out << YAML::BeginMap << YAML::Key << "name" << YAML::Value << frame;
+      out << YAML::Key << "parent" << YAML::Value << *rig.frames().parent_of(frame);
+      out << YAML::Key << "T_parent_frame" << YAML::Value;
+      emit_pose(out, rig.frames().lookup(*rig.frames().parent_of(frame), frame));
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
+  out << YAML::Key << "cameras" << YAML::Value << YAML::BeginSeq;
+  for (size_t i = 0; i < rig.cameras().size(); ++i) {
+    const Camera& cam = rig.cameras()[i];
+    const ModelSpec spec = describe(cam.model);
+    out << YAML::BeginMap << YAML::Key << "name" << YAML::Value << cam.name;
+    out << YAML::Key << "camera_model" << YAML::Value << spec.camera_model;
+    out << YAML::Key << "intrinsics" << YAML::Value;
+    emit_numbers(out, spec.intrinsics);
+    out << YAML::Key << "distortion_model" << YAML::Value << spec.distortion_model;
+    if (!spec.distortion.empty()) {
+      out << YAML::Key << "distortion_coeffs" << YAML::Value;
+      emit_numbers(out, spec.distortion);
+    }
+    out << YAML::Key << "resolution" << YAML::Value;
+    emit_numbers(out, {double(cam.width), double(cam.height)});
+    if (cam.fov_deg != 0) out << YAML::Key << "fov_deg" << YAML::Value << cam.fov_deg;
+    // From the frame graph, not cam.T_parent_cam: adapters update extrinsics live there.
+    const std::string parent = rig.frames().parent_of(cam.name).value_or(cam.parent_frame);
+    out << YAML::Key << "parent" << YAML::Value << parent;
+    out << YAML::Key << "T_parent_cam" << YAML::Value;
+    emit_pose(out, rig.frames().try_lookup(parent, cam.name).value_or(cam.T_parent_cam));
+    if (i < mask_files.size() && !mask_files[i].empty()) out << YAML::Key << "mask" << YAML::Value << mask_files[i];
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace
+
+std::string rig_to_yaml(const Rig& rig) { return rig_yaml_text(rig, {}); }
+
+void save_rig_yaml(const Rig& rig, const std::string& path) {
+  const std::filesystem::path file(path);
+  std::vector<std::string> mask_files;
+  for (const Camera& cam : rig.cameras()) {
+    if (cam.mask.empty()) {
+      mask_files.emplace_back();
+      continue;
+    }
+    mask_files.push_back(cam.name + "_mask.png");
+    const auto mask_path = (file.parent_path() / mask_files.back()).string();
+    if (!cv::imwrite(mask_path, cam.mask)) throw std::runtime_error("cannot write mask image '" + mask_path + "'");
+  }
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << rig_yaml_text(rig, mask_files);
+  out.flush();
+  if (!out) throw std::runtime_error("cannot write rig file '" + path + "'");
 }
 
 }  // namespace omniview

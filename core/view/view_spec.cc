@@ -36,7 +36,8 @@ ViewType view_type_from_string(const std::string& s, const std::string& what) {
   }
   std::string known;
   for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
-  throw std::invalid_argument(what + ": unknown view type '" + s + "' (one of: " + known + ")");
+  // `what` may be empty when the caller already says where (file:line: key:).
+  throw std::invalid_argument((what.empty() ? "" : what + ": ") + "unknown view type '" + s + "' (one of: " + known + ")");
 }
 
 std::string to_string(Fusion f) { return f == Fusion::kBlend ? "blend" : "nearest"; }
@@ -44,13 +45,21 @@ std::string to_string(Fusion f) { return f == Fusion::kBlend ? "blend" : "neares
 Fusion fusion_from_string(const std::string& s, const std::string& what) {
   if (s == "nearest") return Fusion::kNearestCentre;
   if (s == "blend") return Fusion::kBlend;
-  throw std::invalid_argument(what + ": unknown fusion '" + s + "' (nearest or blend)");
+  throw std::invalid_argument((what.empty() ? "" : what + ": ") + "unknown fusion '" + s + "' (nearest or blend)");
 }
 
 Pose ViewSpec::T_frame_view() const {
   Vec3 p = position;
   if (type == ViewType::kBirdseye) p.z() = ground_z + height_m;
   return make_pose(p, yaw_deg * kDeg, pitch_deg * kDeg, roll_deg * kDeg);
+}
+
+ViewSpec default_view_spec(ViewType type) {
+  ViewSpec s;
+  s.type = type;
+  if (type == ViewType::kMercator) s.lat_min_deg = -80, s.lat_max_deg = 80;
+  if (type == ViewType::kBirdseye) s.pitch_deg = 90;  // straight down, forward at the top
+  return s;
 }
 
 void validate(const ViewSpec& s) {

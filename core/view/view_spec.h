@@ -53,6 +53,10 @@ struct ViewSpec {
   Pose T_frame_view() const;
 };
 
+// The defaults of a view of `type` (the YAML schema's and the API's): a bird's-eye view
+// looks straight down, a mercator spans +-80 deg latitude.
+ViewSpec default_view_spec(ViewType type);
+
 // Throws std::invalid_argument with a message that names the view and the field.
 void validate(const ViewSpec& spec);
 

@@ -6,18 +6,15 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
   r.expect_keys(n, path, {"name", "type", "width", "height", "frame", "pose", "hfov_deg", "distance", "height_m",
                           "ground_z", "radius", "vfov_deg", "azimuth_span_deg", "lat_min_deg", "lat_max_deg",
                           "fov_deg", "fusion", "feather_px", "source"});
-  ViewSpec s;
   const auto key = [&](const char* k) { return path.empty() ? std::string(k) : path + "." + k; };
-  s.type = [&] {
+  ViewSpec s = default_view_spec([&] {
     const YAML::Node t = r.required(n, "type", path);
     try {
-      return view_type_from_string(r.text(t, key("type")), "type");
+      return view_type_from_string(r.text(t, key("type")), "");
     } catch (const std::invalid_argument& e) {
       r.fail(t, key("type"), e.what());
     }
-  }();
-  if (s.type == ViewType::kMercator) s.lat_min_deg = -80, s.lat_max_deg = 80;
-  if (s.type == ViewType::kBirdseye) s.pitch_deg = 90;  // straight down, forward at the top
+  }());
   if (n["name"]) s.name = r.text(n["name"], key("name"));
   if (n["width"]) s.width = r.integer(n["width"], key("width"));
   if (n["height"]) s.height = r.integer(n["height"], key("height"));
@@ -44,7 +41,7 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
   }
   if (n["fusion"]) {
     try {
-      s.fusion = fusion_from_string(r.text(n["fusion"], key("fusion")), "fusion");
+      s.fusion = fusion_from_string(r.text(n["fusion"], key("fusion")), "");
     } catch (const std::invalid_argument& e) {
       r.fail(n["fusion"], key("fusion"), e.what());
     }

@@ -83,4 +83,19 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
 // True for 127.0.0.0/8, ::1, localhost (and unix: sockets).
 bool is_loopback_address(const std::string& listen);
 
+// --- Additions -------------------------------------------------------------------------
+// Paths in TlsConfig are stored resolved against the config's folder.
+
+// "viewer" | "operator"; throws std::invalid_argument naming the accepted values.
+Role role_from_string(const std::string& name);
+// An operator may do everything a viewer may.
+bool role_allows(Role granted, Role needed);
+
+// Checks the form of a listen address ("host:port", "[v6]:port", "unix:PATH"); returns an
+// empty string when fine, else what is wrong (for a message).
+std::string listen_address_problem(const std::string& listen);
+
+// `path` resolved against `folder` unless it is absolute.
+std::string resolve_config_path(const std::string& folder, const std::string& path);
+
 }  // namespace omniview

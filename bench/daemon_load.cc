@@ -1,0 +1,171 @@
+// Load on the real daemon: the replay source at 15 Hz, a 1024x512 perspective and an
+// 800x800 bird's-eye view, 4 JPEG clients (2 per view). Reports the added latency per
+// frame (p50/p99: from the frame set's arrival in the daemon to the frame in the client's
+// hands, and the daemon's own arrival-to-encoded part) and the daemon's CPU use, as
+// Google Benchmark counters. Run: ./daemon_load (see bench/README.md).
+#include <benchmark/benchmark.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include <grpcpp/grpcpp.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/rig/rig.h"
+#include "omniview/v1/omniview.grpc.pb.h"
+#include "server/recording/recording.h"
+
+extern char** environ;
+
+namespace omniview {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::system_clock;
+
+constexpr double kSourceHz = 15;
+constexpr int kRecordedFrames = 30;
+
+const std::string kExample = OMNIVIEW_SOURCE_DIR "/config/examples/dual_fisheye";
+
+// A short recording of the example images (as JPEG, the way a robot sends them).
+void make_recording(const fs::path& folder) {
+  const Rig rig = load_rig(kExample + "/rig.yaml");
+  RecordingWriter writer(folder.string(), "bench");
+  std::vector<RecordedImage> images;
+  for (const auto& cam : rig.cameras()) {
+    std::ifstream in(kExample + "/" + cam.name + ".jpg", std::ios::binary);
+    images.push_back({cam.name, "jpeg", std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {})});
+  }
+  const auto t0 = Clock::now();
+  for (int i = 0; i < kRecordedFrames; ++i) {
+    writer.write(i, t0 + std::chrono::microseconds(int64_t(i * 1e6 / kSourceHz)), rig, images);
+  }
+}
+
+struct Daemon {
+  pid_t pid = -1;
+  std::string address;
+
+  explicit Daemon(const fs::path& dir) {
+    const fs::path config = dir / "omniviewd.yaml";
+    std::ofstream(config) << "listen: 127.0.0.1:0\n"
+                          << "sources:\n  - {name: robot, type: replay, recording: " << (dir / "rec").string()
+                          << ", rate_hz: " << kSourceHz << "}\n"
+                          << "views:\n"
+                          << "  - {name: front, type: perspective, width: 1024, height: 512, hfov_deg: 120}\n"
+                          << "  - {name: birdseye, type: birdseye, width: 800, height: 800, height_m: 4}\n";
+    const fs::path ready = dir / "ready";
+    std::vector<std::string> args = {OMNIVIEWD, "--config", config.string(), "--ready-file", ready.string()};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 2, (dir / "omniviewd.log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) throw std::runtime_error("spawn");
+    posix_spawn_file_actions_destroy(&actions);
+    for (int i = 0; i < 2000 && !fs::exists(ready); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    std::ifstream(ready) >> address;
+    if (address.empty()) throw std::runtime_error("omniviewd did not start; see " + (dir / "omniviewd.log").string());
+  }
+  ~Daemon() {
+    kill(pid, SIGTERM);
+    waitpid(pid, nullptr, 0);
+  }
+  // utime + stime in seconds, from /proc.
+  double cpu_seconds() const {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string s((std::istreambuf_iterator<char>(in)), {});
+    std::istringstream fields(s.substr(s.rfind(')') + 2));
+    std::string f;
+    double ticks = 0;
+    for (int i = 3; i <= 15 && fields >> f; ++i) {
+      if (i == 14 || i == 15) ticks += std::stod(f);
+    }
+    return ticks / sysconf(_SC_CLK_TCK);
+  }
+};
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(p * v.size()))];
+}
+
+void BM_DaemonLoad(benchmark::State& state) {
+  const fs::path dir = fs::temp_directory_path() / ("omniview_load_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  make_recording(dir / "rec");
+  Daemon daemon(dir);
+  const double seconds = 10;
+
+  for (auto _ : state) {
+    std::mutex mutex;
+    std::vector<double> end_to_end_ms, daemon_ms;
+    std::atomic<int> frames{0};
+    std::vector<std::thread> clients;
+    const auto cpu0 = daemon.cpu_seconds();
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < 4; ++i) {
+      clients.emplace_back([&, i] {
+        grpc::ChannelArguments args;
+        args.SetMaxReceiveMessageSize(64 << 20);
+        auto stub = v1::Omniview::NewStub(grpc::CreateCustomChannel(daemon.address, grpc::InsecureChannelCredentials(), args));
+        grpc::ClientContext ctx;
+        v1::StreamFramesRequest req;
+        req.set_view(i % 2 ? "birdseye" : "front");
+        req.set_encoding(v1::JPEG);
+        auto reader = stub->StreamFrames(&ctx, req);
+        v1::Frame f;
+        bool warm = false;
+        while (reader->Read(&f)) {
+          const auto now = Clock::now();
+          if (std::chrono::steady_clock::now() - start > std::chrono::duration<double>(seconds)) break;
+          if (!warm) {  // the first frame waits for the stream to open: not steady state
+            warm = true;
+            continue;
+          }
+          // Replay stamps capture time at delivery, so this is arrival -> in the client's hands.
+          const auto captured = std::chrono::seconds(f.capture_time().seconds()) +
+                                std::chrono::nanoseconds(f.capture_time().nanos());
+          const double e2e = std::chrono::duration<double, std::milli>(now.time_since_epoch() - captured).count();
+          std::lock_guard lock(mutex);
+          end_to_end_ms.push_back(e2e);
+          daemon_ms.push_back(f.latency_ms());
+          ++frames;
+        }
+        ctx.TryCancel();
+        reader->Finish();
+      });
+    }
+    for (auto& c : clients) c.join();
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double cpu = daemon.cpu_seconds() - cpu0;
+    state.SetIterationTime(wall);
+    state.counters["latency_p50_ms"] = percentile(end_to_end_ms, 0.5);
+    state.counters["latency_p99_ms"] = percentile(end_to_end_ms, 0.99);
+    state.counters["daemon_p50_ms"] = percentile(daemon_ms, 0.5);
+    state.counters["daemon_p99_ms"] = percentile(daemon_ms, 0.99);
+    state.counters["daemon_cpu_pct_of_core"] = 100 * cpu / wall;
+    state.counters["fps_per_client"] = frames / wall / 4;
+  }
+  fs::remove_all(dir);
+}
+BENCHMARK(BM_DaemonLoad)->Iterations(1)->Repetitions(3)->UseManualTime()->Unit(benchmark::kSecond);
+
+}  // namespace
+}  // namespace omniview
+
+BENCHMARK_MAIN();

@@ -1,0 +1,76 @@
+// What the client commands share: argument parsing with --help, tables, time stamps, and
+// stopping a stream cleanly on Ctrl-C or after a duration.
+#pragma once
+
+#include <google/protobuf/timestamp.pb.h>
+#include <grpcpp/client_context.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli/args.h"
+
+namespace omniview::cli {
+
+// Parses `argv` of a client command: -o and -h stand for --output and --help, `switches`
+// take no value, and any flag outside `flags`, `switches` and the connection flags is an
+// error. Returns nullopt after printing `help` when --help was given.
+std::optional<Args> parse_command_args(const std::vector<std::string>& argv, const std::vector<std::string>& switches,
+                                       const std::vector<std::string>& flags, const std::string& help);
+
+// Exactly `n` positional arguments, named in the error by `names` ("VIEW").
+void expect_positional(const Args& args, size_t n, const std::string& names);
+
+double parse_positive(const std::string& text, const std::string& what);  // a number > 0
+int parse_count(const std::string& text, const std::string& what);        // an integer >= 1
+
+// Columns padded to their widest cell.
+class Table {
+ public:
+  explicit Table(std::vector<std::string> header) { rows_.push_back(std::move(header)); }
+  void add(std::vector<std::string> row) { rows_.push_back(std::move(row)); }
+  void print(std::ostream& out, const std::string& indent = "") const;
+
+ private:
+  std::vector<std::vector<std::string>> rows_;
+};
+
+std::string fixed(double value, int decimals);
+// "2026-11-22T18:40:01.123Z"
+std::string format_time(const google::protobuf::Timestamp& t);
+double to_seconds(const google::protobuf::Timestamp& t);
+double now_seconds();  // since the Unix epoch, for latencies against capture times
+
+// Cancels a streaming call when the user presses Ctrl-C, when `duration_s` (> 0) has
+// passed, or on stop(), so a command can end cleanly and print its summary. A second
+// Ctrl-C kills the process as usual.
+class StreamStopper {
+ public:
+  StreamStopper(grpc::ClientContext& context, double duration_s);
+  ~StreamStopper();
+  StreamStopper(const StreamStopper&) = delete;
+  StreamStopper& operator=(const StreamStopper&) = delete;
+
+  void stop();
+  // True once the call was cancelled on purpose (its CANCELLED status is no error).
+  bool stopped() const { return stopped_; }
+  bool interrupted() const;  // by Ctrl-C
+
+ private:
+  void run(double duration_s);
+  grpc::ClientContext& context_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool done_ = false;
+  std::atomic<bool> stopped_{false};
+  std::thread thread_;
+};
+
+}  // namespace omniview::cli

@@ -1,0 +1,124 @@
+// `omniview record -o DIR`: what a source delivers, written as a recording the `replay`
+// source can play back.
+#include <unistd.h>
+
+#include <filesystem>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <optional>
+
+#include "cli/client/client_commands.h"
+#include "cli/client/command_support.h"
+#include "cli/client/connection.h"
+#include "core/io/yaml_reader.h"
+#include "core/rig/rig.h"
+#include "server/recording/recording.h"
+
+namespace omniview::cli {
+namespace {
+
+const std::string kHelp = std::string(R"(usage: omniview record -o DIR [--source NAME] [--frames N | --duration S]
+
+Records what a source of omniviewd delivers (every camera image, as the source encoded
+it, with capture times and the rig) into DIR, a recording the 'replay' source plays back.
+Runs until N frame sets, S seconds, or Ctrl-C.
+
+  -o, --output DIR   the recording folder (must not exist, or be empty)
+  --source NAME      the source (default: the daemon's first)
+  --frames N         stop after N frame sets
+  --duration S       stop after S seconds
+
+)") + connection_help();
+
+std::string first_source(Connection& connection) {
+  v1::Status status;
+  grpc::ClientContext context;
+  connection.prepare(context, true);
+  connection.check(connection.stub().GetStatus(&context, v1::GetStatusRequest(), &status), "status");
+  if (status.sources().empty()) throw std::runtime_error("omniviewd has no sources");
+  return status.sources(0).name();
+}
+
+// The bytes as the source delivered them; raw pixels (RGB) are stored as PNG.
+RecordedImage to_recorded(const v1::CameraImage& image) {
+  RecordedImage recorded{image.camera(), image.encoding() == v1::PNG ? "png" : "jpeg", {}};
+  if (image.encoding() != v1::RAW) {
+    recorded.bytes.assign(image.data().begin(), image.data().end());
+    return recorded;
+  }
+  const int channels = image.channels();
+  if ((channels != 1 && channels != 3) ||
+      image.data().size() != static_cast<size_t>(image.width()) * image.height() * channels) {
+    throw std::runtime_error("camera '" + image.camera() +
+                             "': raw image size does not match its width, height and channels");
+  }
+  cv::Mat pixels(image.height(), image.width(), channels == 1 ? CV_8UC1 : CV_8UC3,
+                 const_cast<char*>(image.data().data()));
+  if (channels == 3) cv::cvtColor(pixels, pixels, cv::COLOR_RGB2BGR);
+  cv::imencode(".png", pixels, recorded.bytes);
+  recorded.format = "png";
+  return recorded;
+}
+
+std::chrono::system_clock::time_point to_time_point(const google::protobuf::Timestamp& t) {
+  return std::chrono::system_clock::time_point(std::chrono::duration_cast<std::chrono::system_clock::duration>(
+      std::chrono::seconds(t.seconds()) + std::chrono::nanoseconds(t.nanos())));
+}
+
+}  // namespace
+
+int record_command(const std::vector<std::string>& argv) {
+  const auto args = parse_command_args(argv, {}, {"output", "source", "frames", "duration"}, kHelp);
+  if (!args) return 0;
+  expect_positional(*args, 0, "");
+  const std::filesystem::path folder = args->required("output");
+  if (args->has("frames") && args->has("duration")) throw UsageError("give --frames or --duration, not both");
+  const int wanted = args->has("frames") ? parse_count(args->get("frames"), "--frames") : 0;
+  const double duration_s = args->has("duration") ? parse_positive(args->get("duration"), "--duration") : 0;
+  if (std::filesystem::exists(folder) &&
+      (!std::filesystem::is_directory(folder) || !std::filesystem::is_empty(folder))) {
+    throw UsageError("--output '" + folder.string() + "' exists and is not an empty folder");
+  }
+
+  Connection connection(connection_options(*args));
+  const std::string source = args->has("source") ? args->get("source") : first_source(connection);
+  v1::StreamSourceFramesRequest request;
+  request.set_source(source);
+  grpc::ClientContext context;
+  connection.prepare(context, false);
+  StreamStopper stopper(context, duration_s);
+  auto reader = connection.stub().StreamSourceFrames(&context, request);
+
+  std::optional<RecordingWriter> writer;  // created on the first frame: a refused call leaves no folder
+  std::optional<Rig> rig;
+  const bool tty = isatty(STDOUT_FILENO);
+  v1::SourceFrame frame;
+  size_t written = 0;
+  while ((wanted == 0 || written < static_cast<size_t>(wanted)) && reader->Read(&frame)) {
+    if (!frame.rig_yaml().empty()) {
+      // Mask paths in the rig are the daemon's; they resolve against its config folder.
+      const auto yaml = YamlReader::from_string(frame.rig_yaml(), "the rig omniviewd sent");
+      rig = parse_rig_yaml(yaml, ".");
+    }
+    if (!rig) throw std::runtime_error("omniviewd sent a frame set before the rig; cannot record it");
+    std::vector<RecordedImage> images;
+    for (const auto& image : frame.images()) images.push_back(to_recorded(image));
+    if (!writer) writer.emplace(folder.string(), source);
+    writer->write(frame.sequence(), to_time_point(frame.capture_time()), *rig, images);
+    ++written;
+    if (tty && written % 10 == 0) std::cout << "\r\033[Krecorded " << written << " frame sets" << std::flush;
+  }
+  if (tty && written >= 10) std::cout << "\n";
+  if (wanted > 0 && written == static_cast<size_t>(wanted)) stopper.stop();
+  const grpc::Status status = reader->Finish();
+  if (writer) writer->close();
+  if (!(stopper.stopped() && status.error_code() == grpc::StatusCode::CANCELLED)) {
+    connection.check(status, "source '" + source + "'");
+  }
+  std::cout << "recorded " << written << " frame set" << (written == 1 ? "" : "s") << " of source '" << source
+            << "' to " << folder.string() << "/\n";
+  return written > 0 ? 0 : 1;
+}
+
+}  // namespace omniview::cli

@@ -1,0 +1,79 @@
+// `omniview status`: the daemon's sources, views and clients.
+#include <iostream>
+
+#include "cli/client/client_commands.h"
+#include "cli/client/command_support.h"
+#include "cli/client/connection.h"
+
+namespace omniview::cli {
+namespace {
+
+const std::string kHelp = std::string(R"(usage: omniview status
+
+Shows omniviewd's version and uptime, its sources (connected, rate, errors, skipped frame
+sets), its views (subscribers, fps, map rebuilds, latency) and the streaming clients.
+
+)") + connection_help();
+
+std::string age_text(double seconds) { return seconds < 0 ? "never" : fixed(seconds, 1) + " s"; }
+
+std::string uptime_text(double s) {
+  const auto total = static_cast<int64_t>(s);
+  const int64_t days = total / 86400, hours = total % 86400 / 3600, minutes = total % 3600 / 60;
+  std::string text = days ? std::to_string(days) + "d " : "";
+  return text + std::to_string(hours) + "h " + std::to_string(minutes) + "m " + std::to_string(total % 60) + "s";
+}
+
+}  // namespace
+
+int status_command(const std::vector<std::string>& argv) {
+  const auto args = parse_command_args(argv, {}, {}, kHelp);
+  if (!args) return 0;
+  expect_positional(*args, 0, "");
+  Connection connection(connection_options(*args));
+  v1::Status status;
+  grpc::ClientContext context;
+  connection.prepare(context, true);
+  connection.check(connection.stub().GetStatus(&context, v1::GetStatusRequest(), &status), "status");
+
+  std::cout << "omniviewd " << status.version() << " at " << connection.options().server << ", up "
+            << uptime_text(status.uptime_s()) << "\n\nsources:\n";
+  Table sources({"SOURCE", "TYPE", "CONNECTED", "RATE", "LAST FRAME", "FRAMES", "ERRORS", "SKIPPED", "ACTIVE CAMERAS",
+                 "MESSAGE"});
+  for (const auto& s : status.sources()) {
+    std::string cameras;
+    for (const auto& c : s.active_cameras()) cameras += (cameras.empty() ? "" : ",") + c;
+    sources.add({s.name(), s.type(), s.connected() ? "yes" : "NO", fixed(s.rate_hz(), 1) + " Hz",
+                 age_text(s.last_frame_age_s()), std::to_string(s.frames()), std::to_string(s.errors()),
+                 std::to_string(s.dropped()), cameras.empty() ? "-" : cameras, s.message()});
+  }
+  sources.print(std::cout, "  ");
+
+  std::cout << "\nviews:\n";
+  if (status.views().empty()) {
+    std::cout << "  none\n";
+  } else {
+    Table views({"VIEW", "SUBSCRIBERS", "FPS", "FRAMES", "MAP REBUILDS", "LAST BUILD", "COVERAGE", "LATENCY"});
+    for (const auto& v : status.views()) {
+      views.add({v.name(), std::to_string(v.subscribers()), fixed(v.fps(), 1), std::to_string(v.frames()),
+                 std::to_string(v.map_rebuilds()), fixed(v.last_map_build_ms(), 1) + " ms",
+                 fixed(v.coverage() * 100, 1) + "%", fixed(v.last_latency_ms(), 1) + " ms"});
+    }
+    views.print(std::cout, "  ");
+  }
+
+  std::cout << "\nclients:\n";
+  if (status.clients().empty()) {
+    std::cout << "  none\n";
+  } else {
+    Table clients({"PEER", "VIEW", "ENCODING", "SENT", "DROPPED"});
+    for (const auto& c : status.clients()) {
+      clients.add(
+          {c.peer(), c.view(), c.encoding(), std::to_string(c.frames_sent()), std::to_string(c.frames_dropped())});
+    }
+    clients.print(std::cout, "  ");
+  }
+  return 0;
+}
+
+}  // namespace omniview::cli

@@ -1,0 +1,83 @@
+// `omniview stream VIEW --frames N -o DIR`: frames of a view saved as files, with an index.
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "cli/client/client_commands.h"
+#include "cli/client/command_support.h"
+#include "cli/client/connection.h"
+#include "cli/client/frame_files.h"
+
+namespace omniview::cli {
+namespace {
+
+const std::string kHelp =
+    std::string(R"(usage: omniview stream VIEW --frames N -o DIR [--encoding E] [--rate HZ] [--gray]
+
+Saves N frames of a view as DIR/frame_000001.jpg, ... (the daemon's encoded bytes) and
+DIR/frames.csv: file, sequence, capture time (UTC), latency (ms), size, view revision.
+Ctrl-C stops early and keeps what was written.
+
+  --frames N         how many frames
+  -o, --output DIR   the folder (created if missing)
+)") +
+    stream_help() + "\n" + connection_help();
+
+std::string frame_file_name(uint64_t index, v1::Encoding encoding) {
+  std::ostringstream name;
+  name << "frame_" << std::setw(6) << std::setfill('0') << index << "." << extension_for(encoding);
+  return name.str();
+}
+
+}  // namespace
+
+int stream_command(const std::vector<std::string>& argv) {
+  std::vector<std::string> flags = stream_flags();
+  flags.insert(flags.end(), {"frames", "output"});
+  const auto args = parse_command_args(argv, stream_switches(), flags, kHelp);
+  if (!args) return 0;
+  expect_positional(*args, 1, "VIEW");
+  const int wanted = parse_count(args->required("frames"), "--frames");
+  const std::filesystem::path folder = args->required("output");
+  const auto request = stream_request(*args, args->positional()[0], v1::JPEG);
+
+  Connection connection(connection_options(*args));
+  grpc::ClientContext context;
+  connection.prepare(context, false);
+  StreamStopper stopper(context, 0);
+  auto reader = connection.stub().StreamFrames(&context, request);
+  v1::Frame frame;
+  int written = 0;
+  std::ofstream csv;
+  while (written < wanted && reader->Read(&frame)) {
+    if (written == 0) {  // only now: a wrong view name or a refused call leaves nothing behind
+      std::filesystem::create_directories(folder);
+      csv.open(folder / "frames.csv", std::ios::trunc);
+      if (!csv) throw std::runtime_error("cannot write '" + (folder / "frames.csv").string() + "'");
+      csv << "file,sequence,capture_time,capture_time_s,latency_ms,width,height,channels,revision\n";
+    }
+    const std::string name = frame_file_name(written + 1, frame.encoding());
+    write_frame((folder / name).string(), frame);
+    csv << name << "," << frame.sequence() << "," << format_time(frame.capture_time()) << ","
+        << fixed(to_seconds(frame.capture_time()), 6) << "," << fixed(frame.latency_ms(), 3) << "," << frame.width()
+        << "," << frame.height() << "," << frame.channels() << "," << frame.camera().revision() << "\n"
+        << std::flush;  // a stream cut short keeps a complete index
+    ++written;
+  }
+  if (written == wanted) stopper.stop();  // the daemon ends the call when it sees the cancel
+  const grpc::Status status = reader->Finish();
+  if (!(stopper.stopped() && status.error_code() == grpc::StatusCode::CANCELLED)) {
+    connection.check(status, "view '" + request.view() + "'");
+  }
+  std::cout << "wrote " << written << " frame" << (written == 1 ? "" : "s") << " to " << folder.string() << "/";
+  if (written < wanted) {
+    std::cout << " (" << (stopper.interrupted() ? "interrupted" : "the stream ended") << " before " << wanted << ")\n";
+    return stopper.interrupted() ? 130 : 1;
+  }
+  std::cout << "\n";
+  return 0;
+}
+
+}  // namespace omniview::cli

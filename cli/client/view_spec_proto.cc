@@ -1,0 +1,230 @@
+#include "cli/client/view_spec_proto.h"
+
+#include <charconv>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "cli/args.h"
+#include "core/view/view_yaml.h"
+
+namespace omniview::cli {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t");
+  if (first == std::string::npos) return "";
+  return s.substr(first, s.find_last_not_of(" \t") - first + 1);
+}
+
+double parse_number(const std::string& text, const std::string& what) {
+  const std::string t = trim(text);
+  char* end = nullptr;
+  const double v = std::strtod(t.c_str(), &end);
+  if (t.empty() || end != t.c_str() + t.size() || !std::isfinite(v)) {
+    throw UsageError(what + ": expected a number, got '" + text + "'");
+  }
+  return v;
+}
+
+int parse_integer(const std::string& text, const std::string& what) {
+  const std::string t = trim(text);
+  int v = 0;
+  const auto [end, error] = std::from_chars(t.data(), t.data() + t.size(), v);
+  if (t.empty() || error != std::errc() || end != t.data() + t.size()) {
+    throw UsageError(what + ": expected an integer, got '" + text + "'");
+  }
+  return v;
+}
+
+// "1, 2.5,3" -> exactly n numbers.
+std::vector<double> parse_numbers(const std::string& text, size_t n, const std::string& what) {
+  std::vector<double> values;
+  std::stringstream parts(text);
+  for (std::string part; std::getline(parts, part, ',');) values.push_back(parse_number(part, what));
+  if (values.size() != n) {
+    throw UsageError(what + ": expected " + std::to_string(n) + " comma-separated numbers, got '" + text + "'");
+  }
+  return values;
+}
+
+// Short names people type for the common keys.
+std::string canonical_key(const std::string& key) {
+  static const std::map<std::string, std::string> aliases{
+      {"pan", "yaw_deg"},   {"yaw", "yaw_deg"},       {"tilt", "pitch_deg"},      {"pitch", "pitch_deg"},
+      {"roll", "roll_deg"}, {"hfov", "hfov_deg"},     {"vfov", "vfov_deg"},       {"fov", "fov_deg"},
+      {"xyz", "position"},  {"pose.xyz", "position"}, {"pose.ypr_deg", "ypr_deg"}};
+  const auto it = aliases.find(key);
+  return it == aliases.end() ? key : it->second;
+}
+
+// Clears the fields of `full` whose YAML key `node` does not give.
+v1::ViewSpec only_given_fields(v1::ViewSpec full, const YAML::Node& node) {
+  const YAML::Node pose = node["pose"];
+  const bool has_xyz = pose && pose["xyz"], has_ypr = pose && pose["ypr_deg"];
+  const auto* descriptor = full.GetDescriptor();
+  const auto* reflection = full.GetReflection();
+  for (int i = 0; i < descriptor->field_count(); ++i) {
+    const auto* field = descriptor->field(i);
+    const std::string& name = field->name();
+    bool given = false;
+    if (name == "type") {
+      given = true;  // required by the schema
+    } else if (name == "position") {
+      given = has_xyz;
+    } else if (name == "yaw_deg" || name == "pitch_deg" || name == "roll_deg") {
+      given = has_ypr;
+    } else {
+      given = static_cast<bool>(node[name]);
+    }
+    if (!given) reflection->ClearField(&full, field);
+  }
+  return full;
+}
+
+}  // namespace
+
+v1::ViewType to_proto(ViewType type) { return static_cast<v1::ViewType>(static_cast<int>(type) + 1); }
+
+ViewType from_proto(v1::ViewType type) {
+  if (type == v1::VIEW_TYPE_UNSPECIFIED || !v1::ViewType_IsValid(type)) {
+    throw std::invalid_argument("view type " + std::to_string(static_cast<int>(type)) +
+                                " is not one this client knows");
+  }
+  return static_cast<ViewType>(static_cast<int>(type) - 1);
+}
+
+v1::Fusion to_proto(Fusion fusion) { return fusion == Fusion::kBlend ? v1::BLEND : v1::NEAREST_CENTRE; }
+
+v1::ViewSpec to_proto(const ViewSpec& s) {
+  v1::ViewSpec p;
+  p.set_name(s.name);
+  p.set_type(to_proto(s.type));
+  p.set_source(s.source);
+  p.set_width(s.width);
+  p.set_height(s.height);
+  p.set_frame(s.frame);
+  p.mutable_position()->set_x(s.position.x());
+  p.mutable_position()->set_y(s.position.y());
+  p.mutable_position()->set_z(s.position.z());
+  p.set_yaw_deg(s.yaw_deg);
+  p.set_pitch_deg(s.pitch_deg);
+  p.set_roll_deg(s.roll_deg);
+  p.set_hfov_deg(s.hfov_deg);
+  p.set_distance(s.distance);
+  p.set_height_m(s.height_m);
+  p.set_ground_z(s.ground_z);
+  p.set_radius(s.radius);
+  p.set_vfov_deg(s.vfov_deg);
+  p.set_azimuth_span_deg(s.azimuth_span_deg);
+  p.set_lat_min_deg(s.lat_min_deg);
+  p.set_lat_max_deg(s.lat_max_deg);
+  p.set_fov_deg(s.fov_deg);
+  p.set_fusion(to_proto(s.fusion));
+  p.set_feather_px(s.feather_px);
+  return p;
+}
+
+ViewSpec from_proto(const v1::ViewSpec& p) {
+  ViewSpec s = default_view_spec(p.has_type() ? from_proto(p.type()) : ViewType::kPerspective);
+  if (p.has_name()) s.name = p.name();
+  if (p.has_source()) s.source = p.source();
+  if (p.has_width()) s.width = p.width();
+  if (p.has_height()) s.height = p.height();
+  if (p.has_frame()) s.frame = p.frame();
+  if (p.has_position()) s.position = Vec3(p.position().x(), p.position().y(), p.position().z());
+  if (p.has_yaw_deg()) s.yaw_deg = p.yaw_deg();
+  if (p.has_pitch_deg()) s.pitch_deg = p.pitch_deg();
+  if (p.has_roll_deg()) s.roll_deg = p.roll_deg();
+  if (p.has_hfov_deg()) s.hfov_deg = p.hfov_deg();
+  if (p.has_distance()) s.distance = p.distance();
+  if (p.has_height_m()) s.height_m = p.height_m();
+  if (p.has_ground_z()) s.ground_z = p.ground_z();
+  if (p.has_radius()) s.radius = p.radius();
+  if (p.has_vfov_deg()) s.vfov_deg = p.vfov_deg();
+  if (p.has_azimuth_span_deg()) s.azimuth_span_deg = p.azimuth_span_deg();
+  if (p.has_lat_min_deg()) s.lat_min_deg = p.lat_min_deg();
+  if (p.has_lat_max_deg()) s.lat_max_deg = p.lat_max_deg();
+  if (p.has_fov_deg()) s.fov_deg = p.fov_deg();
+  if (p.has_fusion()) s.fusion = p.fusion() == v1::BLEND ? Fusion::kBlend : Fusion::kNearestCentre;
+  if (p.has_feather_px()) s.feather_px = p.feather_px();
+  return s;
+}
+
+std::vector<v1::ViewSpec> views_from_yaml(const YamlReader& reader) {
+  const std::vector<ViewSpec> parsed = parse_views(reader);  // checks keys, types, values
+  const YAML::Node& root = reader.root();
+  std::vector<YAML::Node> nodes;
+  if (root["views"]) {
+    for (const auto& node : root["views"]) nodes.push_back(node);
+  } else {
+    nodes.push_back(root);
+  }
+  std::vector<v1::ViewSpec> specs;
+  for (size_t i = 0; i < parsed.size(); ++i) specs.push_back(only_given_fields(to_proto(parsed[i]), nodes[i]));
+  return specs;
+}
+
+std::vector<v1::ViewSpec> load_view_file(const std::string& path) {
+  return views_from_yaml(YamlReader::from_file(path));
+}
+
+void apply_setting(const std::string& assignment, v1::ViewSpec& spec) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) throw UsageError("--set '" + assignment + "': expected KEY=VALUE");
+  const std::string key = canonical_key(trim(assignment.substr(0, eq)));
+  const std::string value = trim(assignment.substr(eq + 1));
+  const std::string what = "--set " + key;
+  try {
+    if (key == "type") return spec.set_type(to_proto(view_type_from_string(value, what)));
+    if (key == "fusion") return spec.set_fusion(to_proto(fusion_from_string(value, what)));
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  if (key == "position") {
+    const auto v = parse_numbers(value, 3, what);
+    spec.mutable_position()->set_x(v[0]);
+    spec.mutable_position()->set_y(v[1]);
+    spec.mutable_position()->set_z(v[2]);
+    return;
+  }
+  if (key == "ypr_deg") {
+    const auto v = parse_numbers(value, 3, what);
+    spec.set_yaw_deg(v[0]);
+    spec.set_pitch_deg(v[1]);
+    spec.set_roll_deg(v[2]);
+    return;
+  }
+  // The remaining keys are the proto's scalar fields, named as in the YAML.
+  const auto* field = spec.GetDescriptor()->FindFieldByName(key);
+  using Type = google::protobuf::FieldDescriptor;
+  const auto* reflection = spec.GetReflection();
+  switch (field ? field->cpp_type() : Type::CPPTYPE_MESSAGE) {
+    case Type::CPPTYPE_DOUBLE:
+      return reflection->SetDouble(&spec, field, parse_number(value, what));
+    case Type::CPPTYPE_INT32:
+      return reflection->SetInt32(&spec, field, parse_integer(value, what));
+    case Type::CPPTYPE_STRING:
+      return reflection->SetString(&spec, field, value);
+    default:
+      throw UsageError("--set: unknown key '" + key + "' (see 'omniview views --help')");
+  }
+}
+
+const char* settable_keys_help() {
+  return R"(--set keys (the view YAML keys; angles in degrees, distances in metres):
+  name, type (perspective|birdseye|cylindrical|mercator|equirectangular|fisheye), source,
+  width, height, frame, position=X,Y,Z, ypr_deg=YAW,PITCH,ROLL, yaw_deg (pan), pitch_deg
+  (tilt, positive looks down), roll_deg (roll), hfov_deg (hfov), distance, height_m,
+  ground_z, radius, vfov_deg (vfov), azimuth_span_deg, lat_min_deg, lat_max_deg,
+  fov_deg (fov), fusion (nearest|blend), feather_px
+)";
+}
+
+double hfov_from_zoom(double zoom) { return 2 * std::atan(1.0 / zoom) * 180 / kPi; }
+
+double zoom_from_hfov(double hfov_deg) { return 1.0 / std::tan(hfov_deg * kPi / 360); }
+
+}  // namespace omniview::cli

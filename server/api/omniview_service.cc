@@ -1,0 +1,276 @@
+#include "server/api/omniview_service.h"
+
+#include <chrono>
+
+#include <google/protobuf/util/time_util.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/rig/rig.h"
+#include "server/convert/convert.h"
+#include "server/pipeline/frame_encoder.h"
+
+namespace omniview {
+
+namespace {
+
+// Runs `body`, turning the pipeline's and core's exceptions into statuses.
+template <typename F>
+grpc::Status guarded(F&& body) {
+  try {
+    return body();
+  } catch (const ApiError& e) {
+    return grpc::Status(e.code, e.what());
+  } catch (const std::invalid_argument& e) {
+    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+  } catch (const std::exception& e) {
+    return grpc::Status(grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
+  }
+}
+
+#define OMNIVIEW_AUTHORIZE(ctx, role)                          \
+  do {                                                         \
+    const grpc::Status auth_status = auth_.check(*(ctx), role); \
+    if (!auth_status.ok()) return auth_status;                 \
+  } while (0)
+
+constexpr auto kPoll = std::chrono::milliseconds(100);  // how often a waiting stream checks for cancellation
+
+}  // namespace
+
+class OmniviewService::StreamSlot {
+ public:
+  StreamSlot(OmniviewService& service, std::string peer) : service_(service), peer_(std::move(peer)) {}
+  ~StreamSlot() {
+    if (held_) service_.release_stream(peer_);
+  }
+  grpc::Status acquire() {
+    const grpc::Status s = service_.acquire_stream(peer_);
+    held_ = s.ok();
+    return s;
+  }
+
+ private:
+  OmniviewService& service_;
+  std::string peer_;
+  bool held_ = false;
+};
+
+grpc::Status OmniviewService::acquire_stream(const std::string& peer) {
+  std::lock_guard lock(streams_mutex_);
+  if (streams_ >= limits_.max_streams) {
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        "omniviewd is serving its maximum of " + std::to_string(limits_.max_streams) +
+                            " streams (limits.max_streams); try again later");
+  }
+  int& mine = streams_per_peer_[peer];
+  if (mine >= limits_.max_streams_per_client) {
+    return grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                        "this connection already has " + std::to_string(mine) +
+                            " streams open (limits.max_streams_per_client); close one first");
+  }
+  ++mine;
+  ++streams_;
+  return grpc::Status::OK;
+}
+
+void OmniviewService::release_stream(const std::string& peer) {
+  std::lock_guard lock(streams_mutex_);
+  if (--streams_per_peer_[peer] <= 0) streams_per_peer_.erase(peer);
+  --streams_;
+}
+
+grpc::Status OmniviewService::ListCameras(grpc::ServerContext* ctx, const v1::ListCamerasRequest* req,
+                                          v1::ListCamerasResponse* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    for (auto& c : pipeline_.cameras(req->source())) *resp->add_cameras() = std::move(c);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::CreateView(grpc::ServerContext* ctx, const v1::CreateViewRequest* req, v1::View* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  return guarded([&] {
+    if (!req->spec().has_name() || req->spec().name().empty()) {
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "spec.name is required: every view needs a name");
+    }
+    *resp = pipeline_.create_view(spec_from_proto(req->spec()));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::GetView(grpc::ServerContext* ctx, const v1::GetViewRequest* req, v1::View* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    *resp = pipeline_.get_view(req->name());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::ListViews(grpc::ServerContext* ctx, const v1::ListViewsRequest*,
+                                        v1::ListViewsResponse* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    for (auto& v : pipeline_.list_views()) *resp->add_views() = std::move(v);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::UpdateView(grpc::ServerContext* ctx, const v1::UpdateViewRequest* req, v1::View* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  return guarded([&] {
+    *resp = pipeline_.update_view(req->name(), req->set(), req->delta());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::DeleteView(grpc::ServerContext* ctx, const v1::DeleteViewRequest* req,
+                                         v1::DeleteViewResponse*) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  return guarded([&] {
+    pipeline_.delete_view(req->name());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::StreamFramesRequest* req,
+                                           grpc::ServerWriter<v1::Frame>* writer) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    const EncodingKey key = encoding_key(req->encoding(), req->quality(), req->gray());
+    if (!(req->max_rate_hz() >= 0)) {
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "max_rate_hz must be >= 0 (0: as fast as frames come)");
+    }
+    const double rate = req->max_rate_hz() == 0 ? limits_.max_rate_hz : std::min(req->max_rate_hz(), limits_.max_rate_hz);
+    StreamSlot slot(*this, ctx->peer());
+    if (auto s = slot.acquire(); !s.ok()) return s;
+    auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, rate);
+    // Unsubscribe however this ends (client gone, view deleted, shutdown, exception).
+    struct Unsubscribe {
+      Pipeline& p;
+      std::string view;
+      const Subscriber* s;
+      ~Unsubscribe() { p.unsubscribe(view, s); }
+    } unsubscribe{pipeline_, req->view(), subscriber.get()};
+    while (true) {
+      if (ctx->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "client cancelled");
+      const auto frame = subscriber->take(kPoll);
+      if (!frame) continue;  // timed out: check for cancellation and wait again
+      if (!*frame) return grpc::Status(subscriber->close_code(), subscriber->close_reason());
+      if (!writer->Write(**frame)) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
+      subscriber->count_sent();
+    }
+  });
+}
+
+grpc::Status OmniviewService::GetSnapshot(grpc::ServerContext* ctx, const v1::SnapshotRequest* req, v1::Frame* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    const EncodingKey key = encoding_key(req->encoding(), req->quality(), req->gray());
+    const int timeout_ms = req->timeout_ms() > 0 ? req->timeout_ms() : 5000;
+    auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, 0);
+    struct Unsubscribe {
+      Pipeline& p;
+      std::string view;
+      const Subscriber* s;
+      ~Unsubscribe() { p.unsubscribe(view, s); }
+    } unsubscribe{pipeline_, req->view(), subscriber.get()};
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (ctx->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "client cancelled");
+      const auto frame = subscriber->take(kPoll);
+      if (!frame) continue;
+      if (!*frame) return grpc::Status(subscriber->close_code(), subscriber->close_reason());
+      *resp = **frame;
+      return grpc::Status::OK;
+    }
+    const auto view = pipeline_.get_view(req->view());
+    return grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                        "no frame of view '" + req->view() + "' within " + std::to_string(timeout_ms) +
+                            " ms: source '" + view.spec().source() +
+                            "' is not delivering images (see `omniview status`)");
+  });
+}
+
+grpc::Status OmniviewService::PixelToRay(grpc::ServerContext* ctx, const v1::PixelToRayRequest* req,
+                                         v1::PixelToRayResponse* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    *resp = pipeline_.pixel_to_ray(req->view(), req->u(), req->v());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::PointToPixel(grpc::ServerContext* ctx, const v1::PointToPixelRequest* req,
+                                           v1::PointToPixelResponse* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    *resp = pipeline_.point_to_pixel(req->view(), from_proto(req->point()), req->frame());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::GetStatus(grpc::ServerContext* ctx, const v1::GetStatusRequest*, v1::Status* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    *resp = pipeline_.status();
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::StreamSourceFrames(grpc::ServerContext* ctx, const v1::StreamSourceFramesRequest* req,
+                                                 grpc::ServerWriter<v1::SourceFrame>* writer) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    StreamSlot slot(*this, ctx->peer());
+    if (auto s = slot.acquire(); !s.ok()) return s;
+    const std::string source = req->source();
+    auto tap = pipeline_.tap(source);
+    struct Untap {
+      Pipeline& p;
+      std::string source;
+      const FrameSetTap* t;
+      ~Untap() { p.untap(source, t); }
+    } untap{pipeline_, source, tap.get()};
+    const Rig* last_rig = nullptr;
+    while (true) {
+      if (ctx->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "client cancelled");
+      const auto next = tap->take(kPoll);
+      if (!next) continue;
+      const auto& frames = *next;
+      if (!frames) return grpc::Status(grpc::StatusCode::UNAVAILABLE, tap->close_reason());
+      v1::SourceFrame out;
+      out.set_sequence(frames->sequence);
+      *out.mutable_capture_time() = google::protobuf::util::TimeUtil::NanosecondsToTimestamp(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(frames->capture_time.time_since_epoch()).count());
+      if (frames->rig.get() != last_rig) {
+        out.set_rig_yaml(rig_to_yaml(*frames->rig));
+        last_rig = frames->rig.get();
+      }
+      const auto& cams = frames->rig->cameras();
+      for (size_t i = 0; i < frames->images.size() && i < cams.size(); ++i) {
+        const cv::Mat& img = frames->images[i];
+        if (img.empty()) continue;
+        auto* image = out.add_images();
+        image->set_camera(cams[i].name);
+        image->set_width(img.cols);
+        image->set_height(img.rows);
+        image->set_channels(img.channels());
+        const bool have_encoded = i < frames->encoded.size() && frames->encoded[i].bytes;
+        if (have_encoded) {  // the robot's own JPEG: no loss, no work
+          const auto& e = frames->encoded[i];
+          image->set_encoding(e.format == "png" ? v1::PNG : v1::JPEG);
+          image->set_data(e.bytes->data(), e.bytes->size());
+        } else {
+          std::vector<uint8_t> png;
+          cv::imencode(".png", img, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
+          image->set_encoding(v1::PNG);
+          image->set_data(png.data(), png.size());
+        }
+      }
+      if (!writer->Write(out)) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
+    }
+  });
+}
+
+}  // namespace omniview

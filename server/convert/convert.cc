@@ -1,0 +1,205 @@
+#include "server/convert/convert.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/camera/camera_model.h"
+#include "core/view/pinhole_view.h"
+
+namespace omniview {
+
+v1::Vec3 to_proto(const Vec3& v) {
+  v1::Vec3 out;
+  out.set_x(v.x());
+  out.set_y(v.y());
+  out.set_z(v.z());
+  return out;
+}
+
+Vec3 from_proto(const v1::Vec3& v) { return Vec3(v.x(), v.y(), v.z()); }
+
+v1::Transform to_proto(const Pose& pose) {
+  v1::Transform t;
+  *t.mutable_translation() = to_proto(Vec3(pose.translation()));
+  const Eigen::Quaterniond q(pose.rotation());
+  t.set_qw(q.w());
+  t.set_qx(q.x());
+  t.set_qy(q.y());
+  t.set_qz(q.z());
+  return t;
+}
+
+Pose from_proto(const v1::Transform& t) {
+  Eigen::Quaterniond q(t.qw(), t.qx(), t.qy(), t.qz());
+  if (q.norm() < 1e-9) q = Eigen::Quaterniond::Identity();  // unset message
+  Pose pose = Pose::Identity();
+  pose.linear() = q.normalized().toRotationMatrix();
+  pose.translation() = from_proto(t.translation());
+  return pose;
+}
+
+v1::ViewType to_proto(ViewType type) {
+  switch (type) {
+    case ViewType::kPerspective: return v1::PERSPECTIVE;
+    case ViewType::kBirdseye: return v1::BIRDSEYE;
+    case ViewType::kCylindrical: return v1::CYLINDRICAL;
+    case ViewType::kMercator: return v1::MERCATOR;
+    case ViewType::kEquirectangular: return v1::EQUIRECTANGULAR;
+    case ViewType::kFisheye: return v1::FISHEYE;
+  }
+  return v1::VIEW_TYPE_UNSPECIFIED;
+}
+
+ViewType from_proto(v1::ViewType type, const std::string& what) {
+  switch (type) {
+    case v1::PERSPECTIVE: return ViewType::kPerspective;
+    case v1::BIRDSEYE: return ViewType::kBirdseye;
+    case v1::CYLINDRICAL: return ViewType::kCylindrical;
+    case v1::MERCATOR: return ViewType::kMercator;
+    case v1::EQUIRECTANGULAR: return ViewType::kEquirectangular;
+    case v1::FISHEYE: return ViewType::kFisheye;
+    default: break;
+  }
+  throw std::invalid_argument(what + ": view type missing or unknown (" + std::to_string(type) +
+                              "); one of PERSPECTIVE, BIRDSEYE, CYLINDRICAL, MERCATOR, EQUIRECTANGULAR, FISHEYE");
+}
+
+v1::Fusion to_proto(Fusion fusion) {
+  return fusion == Fusion::kBlend ? v1::BLEND : v1::NEAREST_CENTRE;
+}
+
+Fusion from_proto(v1::Fusion fusion, const std::string& what) {
+  switch (fusion) {
+    case v1::NEAREST_CENTRE: return Fusion::kNearestCentre;
+    case v1::BLEND: return Fusion::kBlend;
+    default: break;
+  }
+  throw std::invalid_argument(what + ": fusion missing or unknown (" + std::to_string(fusion) +
+                              "); one of NEAREST_CENTRE, BLEND");
+}
+
+v1::ViewSpec to_proto(const ViewSpec& s) {
+  v1::ViewSpec p;
+  p.set_name(s.name);
+  p.set_type(to_proto(s.type));
+  p.set_source(s.source);
+  p.set_width(s.width);
+  p.set_height(s.height);
+  p.set_frame(s.frame);
+  *p.mutable_position() = to_proto(s.position);
+  p.set_yaw_deg(s.yaw_deg);
+  p.set_pitch_deg(s.pitch_deg);
+  p.set_roll_deg(s.roll_deg);
+  p.set_hfov_deg(s.hfov_deg);
+  p.set_distance(s.distance);
+  p.set_height_m(s.height_m);
+  p.set_ground_z(s.ground_z);
+  p.set_radius(s.radius);
+  p.set_vfov_deg(s.vfov_deg);
+  p.set_azimuth_span_deg(s.azimuth_span_deg);
+  p.set_lat_min_deg(s.lat_min_deg);
+  p.set_lat_max_deg(s.lat_max_deg);
+  p.set_fov_deg(s.fov_deg);
+  p.set_fusion(to_proto(s.fusion));
+  p.set_feather_px(s.feather_px);
+  return p;
+}
+
+ViewSpec spec_from_proto(const v1::ViewSpec& request) {
+  if (!request.has_type()) {
+    throw std::invalid_argument("view '" + request.name() +
+                                "': type is required (PERSPECTIVE, BIRDSEYE, CYLINDRICAL, MERCATOR, "
+                                "EQUIRECTANGULAR or FISHEYE)");
+  }
+  ViewSpec spec = default_view_spec(from_proto(request.type(), "view '" + request.name() + "'"));
+  apply_patch(request, spec);
+  return spec;
+}
+
+void apply_patch(const v1::ViewSpec& p, ViewSpec& s) {
+  const std::string what = "view '" + (p.has_name() ? p.name() : s.name) + "'";
+  if (p.has_name()) s.name = p.name();
+  if (p.has_type()) s.type = from_proto(p.type(), what);
+  if (p.has_source()) s.source = p.source();
+  if (p.has_width()) s.width = p.width();
+  if (p.has_height()) s.height = p.height();
+  if (p.has_frame()) s.frame = p.frame();
+  if (p.has_position()) s.position = from_proto(p.position());
+  const std::pair<bool (v1::ViewSpec::*)() const, std::pair<double (v1::ViewSpec::*)() const, double*>> numbers[] = {
+      {&v1::ViewSpec::has_yaw_deg, {&v1::ViewSpec::yaw_deg, &s.yaw_deg}},
+      {&v1::ViewSpec::has_pitch_deg, {&v1::ViewSpec::pitch_deg, &s.pitch_deg}},
+      {&v1::ViewSpec::has_roll_deg, {&v1::ViewSpec::roll_deg, &s.roll_deg}},
+      {&v1::ViewSpec::has_hfov_deg, {&v1::ViewSpec::hfov_deg, &s.hfov_deg}},
+      {&v1::ViewSpec::has_distance, {&v1::ViewSpec::distance, &s.distance}},
+      {&v1::ViewSpec::has_height_m, {&v1::ViewSpec::height_m, &s.height_m}},
+      {&v1::ViewSpec::has_ground_z, {&v1::ViewSpec::ground_z, &s.ground_z}},
+      {&v1::ViewSpec::has_radius, {&v1::ViewSpec::radius, &s.radius}},
+      {&v1::ViewSpec::has_vfov_deg, {&v1::ViewSpec::vfov_deg, &s.vfov_deg}},
+      {&v1::ViewSpec::has_azimuth_span_deg, {&v1::ViewSpec::azimuth_span_deg, &s.azimuth_span_deg}},
+      {&v1::ViewSpec::has_lat_min_deg, {&v1::ViewSpec::lat_min_deg, &s.lat_min_deg}},
+      {&v1::ViewSpec::has_lat_max_deg, {&v1::ViewSpec::lat_max_deg, &s.lat_max_deg}},
+      {&v1::ViewSpec::has_fov_deg, {&v1::ViewSpec::fov_deg, &s.fov_deg}},
+      {&v1::ViewSpec::has_feather_px, {&v1::ViewSpec::feather_px, &s.feather_px}},
+  };
+  for (const auto& [has, get_and_field] : numbers) {
+    if ((p.*has)()) *get_and_field.second = (p.*(get_and_field.first))();
+  }
+  if (p.has_fusion()) s.fusion = from_proto(p.fusion(), what);
+}
+
+double hfov_from_zoom(double zoom) { return 2 * std::atan(1.0 / zoom) * 180 / M_PI; }
+double zoom_from_hfov(double hfov_deg) { return 1.0 / std::tan(hfov_deg * M_PI / 360); }
+
+void apply_delta(const v1::ViewDelta& d, ViewSpec& s) {
+  s.yaw_deg += d.yaw_deg();
+  s.pitch_deg += d.pitch_deg();
+  s.roll_deg += d.roll_deg();
+  // Keep pan in (-180, 180] so repeated joystick steps do not grow without bound.
+  s.yaw_deg = std::remainder(s.yaw_deg, 360.0);
+  const double zoom = d.zoom();
+  if (zoom == 0 || zoom == 1) return;
+  if (!(zoom > 0) || !std::isfinite(zoom)) {
+    throw std::invalid_argument("view '" + s.name + "': delta.zoom must be > 0, got " + std::to_string(zoom));
+  }
+  switch (s.type) {
+    case ViewType::kPerspective:
+    case ViewType::kBirdseye:
+      s.hfov_deg = hfov_from_zoom(zoom_from_hfov(s.hfov_deg) * zoom);
+      break;
+    case ViewType::kFisheye:
+      s.fov_deg /= zoom;
+      break;
+    default:
+      throw std::invalid_argument("view '" + s.name + "': zoom applies to perspective, birdseye and fisheye views, not " +
+                                  to_string(s.type));
+  }
+}
+
+std::vector<double> pinhole_intrinsics(const View& view) {
+  const auto* pinhole = dynamic_cast<const PinholeView*>(&view);
+  if (!pinhole) return {};
+  return {pinhole->focal(), pinhole->focal(), pinhole->cx(), pinhole->cy()};
+}
+
+v1::Camera to_proto(const Camera& c, const Rig& rig, const std::string& source) {
+  v1::Camera p;
+  p.set_name(c.name);
+  p.set_source(source);
+  const ModelSpec m = describe(c.model);
+  p.set_camera_model(m.camera_model);
+  p.set_distortion_model(m.distortion_model);
+  for (double v : m.intrinsics) p.add_intrinsics(v);
+  for (double v : m.distortion) p.add_distortion_coeffs(v);
+  p.set_width(c.width);
+  p.set_height(c.height);
+  p.set_fov_deg(c.fov_deg);
+  p.set_has_mask(!c.mask.empty());
+  p.set_frame(rig.default_frame());
+  const auto& cams = rig.cameras();
+  for (size_t i = 0; i < cams.size(); ++i) {
+    if (cams[i].name == c.name) *p.mutable_pose() = to_proto(rig.camera_pose(rig.default_frame(), i));
+  }
+  return p;
+}
+
+}  // namespace omniview

@@ -1,0 +1,100 @@
+#include "server/daemon/daemon.h"
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/server_builder.h>
+
+#include "server/auth/server_credentials.h"
+#include "server/source/source_registry.h"
+
+namespace omniview {
+
+namespace {
+
+// "host:port" with the port replaced.
+std::string with_port(const std::string& listen, int port) {
+  const auto colon = listen.rfind(':');
+  return listen.substr(0, colon + 1) + std::to_string(port);
+}
+
+}  // namespace
+
+Daemon::Daemon(const DaemonConfig& config) : config_(config) {
+  const YamlReader& reader = *config_.reader;
+  PipelineLimits limits;
+  limits.max_view_pixels = config_.limits.max_view_pixels;
+  limits.max_views = config_.limits.max_views;
+  pipeline_ = std::make_unique<Pipeline>(limits);
+
+  for (const auto& s : config_.sources) {
+    SourceConfig sc{s.name, &reader, s.node, s.path, config_.folder};
+    try {
+      pipeline_->add_source(make_source(s.type, sc));
+    } catch (const ConfigError& e) {
+      // Errors the factory found in this config already name it; errors in files the
+      // source loads (its rig, say) also get pointed at the entry that named them.
+      if (std::string(e.what()).rfind(reader.file(), 0) == 0) throw;
+      reader.fail(s.node, s.path, "source '" + s.name + "' cannot start: " + e.what());
+    } catch (const std::exception& e) {
+      reader.fail(s.node, s.path, "source '" + s.name + "' cannot start: " + e.what());
+    }
+  }
+  for (size_t i = 0; i < config_.views.size(); ++i) {
+    const ViewSpec& spec = config_.views[i];
+    try {
+      pipeline_->create_view(spec);
+    } catch (const std::exception& e) {
+      const YAML::Node list = reader.root()["views"];
+      reader.fail(list && list.IsSequence() ? list[i] : reader.root(), "views[" + std::to_string(i) + "]", e.what());
+    }
+  }
+
+  auth_ = std::make_unique<Authenticator>(config_.tokens);
+  service_ = std::make_unique<OmniviewService>(*pipeline_, *auth_, config_.limits);
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  int port = 0;
+  builder.AddListeningPort(config_.listen, make_server_credentials(config_.tls), &port);
+  builder.RegisterService(service_.get());
+  builder.SetMaxReceiveMessageSize(config_.limits.max_message_bytes);
+  builder.SetMaxSendMessageSize(config_.limits.max_message_bytes);
+  // The sync server runs a thread per call in flight: bound it so a flood of clients is
+  // refused (RESOURCE_EXHAUSTED) instead of exhausting the machine.
+  grpc::ResourceQuota quota("omniviewd");
+  quota.SetMaxThreads(config_.limits.max_streams + 64);
+  builder.SetResourceQuota(quota);
+  // Notice vanished clients (Wi-Fi gone) within ~20 s rather than the TCP default.
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, 10000);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10000);
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS, 5000);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  // gRPC sets SO_REUSEPORT by default: a second daemon on the same port would then start
+  // and silently share the traffic. Refuse instead.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  server_ = builder.BuildAndStart();
+  if (!server_ || port == 0) {
+    const YAML::Node listen = reader.root()["listen"];
+    reader.fail(listen ? listen : reader.root(), "listen",
+                "cannot listen on '" + config_.listen + "' (address in use, or not an address of this machine?)");
+  }
+  address_ = with_port(config_.listen, port);
+  pipeline_->start();
+}
+
+Daemon::~Daemon() { shutdown(); }
+
+void Daemon::shutdown(std::chrono::milliseconds grace) {
+  if (shut_down_) return;
+  shut_down_ = true;
+  if (server_) server_->GetHealthCheckService()->Shutdown();  // health: NOT_SERVING from now on
+  // Streams end first (their handlers return UNAVAILABLE), so Shutdown has little to wait for.
+  pipeline_->stop("omniviewd is shutting down");
+  if (server_) {
+    server_->Shutdown(std::chrono::system_clock::now() + grace);
+    server_->Wait();
+  }
+}
+
+}  // namespace omniview

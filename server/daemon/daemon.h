@@ -1,0 +1,43 @@
+// omniviewd assembled: sources from the config, the pipeline, the views, the gRPC server
+// (with health and reflection), and an orderly shutdown.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <grpcpp/server.h>
+
+#include "server/api/omniview_service.h"
+#include "server/auth/authenticator.h"
+#include "server/config/daemon_config.h"
+#include "server/pipeline/pipeline.h"
+
+namespace omniview {
+
+class Daemon {
+ public:
+  // Creates the sources and the configured views, and starts listening. Throws ConfigError
+  // naming the file, line and key for anything the config asks that cannot be done (a
+  // source that cannot start, a view its rig cannot serve, an address in use).
+  explicit Daemon(const DaemonConfig& config);
+  ~Daemon();
+
+  // The address actually listened on (a config port of 0 picks a free one: tests).
+  const std::string& address() const { return address_; }
+  Pipeline& pipeline() { return *pipeline_; }
+
+  // Ends streams with UNAVAILABLE "omniviewd is shutting down", stops accepting calls,
+  // waits up to `grace` for calls in flight, stops the sources. Idempotent.
+  void shutdown(std::chrono::milliseconds grace = std::chrono::milliseconds(2000));
+
+ private:
+  DaemonConfig config_;
+  std::unique_ptr<Pipeline> pipeline_;
+  std::unique_ptr<Authenticator> auth_;
+  std::unique_ptr<OmniviewService> service_;
+  std::unique_ptr<grpc::Server> server_;
+  std::string address_;
+  bool shut_down_ = false;
+};
+
+}  // namespace omniview

@@ -1,0 +1,53 @@
+#include "server/pipeline/live_view.h"
+
+#include <algorithm>
+
+namespace omniview {
+
+void LiveView::add_subscriber(std::shared_ptr<Subscriber> s) {
+  std::lock_guard lock(mutex_);
+  subscribers_.push_back(std::move(s));
+}
+
+void LiveView::remove_subscriber(const Subscriber* s) {
+  std::lock_guard lock(mutex_);
+  std::erase_if(subscribers_, [&](const auto& p) { return p.get() == s; });
+}
+
+std::vector<std::shared_ptr<Subscriber>> LiveView::subscribers() const {
+  std::lock_guard lock(mutex_);
+  return subscribers_;
+}
+
+size_t LiveView::subscriber_count() const {
+  std::lock_guard lock(mutex_);
+  return subscribers_.size();
+}
+
+void LiveView::close_all(grpc::StatusCode code, const std::string& reason) {
+  for (const auto& s : subscribers()) s->close(code, reason);
+}
+
+void LiveView::record_map_build(double ms) {
+  std::lock_guard lock(mutex_);
+  ++stats_.map_rebuilds;
+  stats_.last_map_build_ms = ms;
+}
+
+void LiveView::record_frame(double latency_ms, std::chrono::steady_clock::time_point now) {
+  std::lock_guard lock(mutex_);
+  ++stats_.frames;
+  stats_.last_latency_ms = latency_ms;
+  if (stats_.last_frame.time_since_epoch().count() != 0) {
+    const double dt = std::chrono::duration<double>(now - stats_.last_frame).count();
+    if (dt > 0) stats_.fps = stats_.fps == 0 ? 1 / dt : 0.9 * stats_.fps + 0.1 / dt;
+  }
+  stats_.last_frame = now;
+}
+
+ViewStats LiveView::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+}  // namespace omniview

@@ -1,0 +1,76 @@
+// One view the daemon keeps: its definition, its current map, and who watches it.
+//
+// The map is immutable once built and held by shared_ptr: a rebuild makes a new one and
+// swaps the pointer under the lock, so a frame being rendered keeps the map it started
+// with and nothing on the hot path waits for a rebuild.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/map/fusion_map.h"
+#include "core/rig/rig.h"
+#include "core/view/view.h"
+#include "omniview/v1/omniview.pb.h"
+#include "server/pipeline/subscriber.h"
+
+namespace omniview {
+
+// Everything one revision of a view needs to render and describe itself.
+struct ViewState {
+  ViewSpec spec;
+  uint64_t revision = 0;
+  std::shared_ptr<const View> view;
+  std::shared_ptr<const Rig> rig;  // the rig `map` was built for (a new rig object: rebuild)
+  std::shared_ptr<const FusionMap> map;
+  double build_ms = 0;
+  Pose T_robot_view = Pose::Identity();  // the view frame in the rig's default frame
+  std::shared_ptr<const v1::View> description;  // as sent with every frame
+};
+
+struct ViewStats {
+  uint64_t frames = 0;
+  uint64_t map_rebuilds = 0;
+  double last_map_build_ms = 0;
+  double fps = 0;  // exponentially averaged
+  double last_latency_ms = 0;
+  std::chrono::steady_clock::time_point last_frame{};
+};
+
+class LiveView {
+ public:
+  explicit LiveView(std::shared_ptr<const ViewState> state) : state_(std::move(state)) {}
+
+  std::shared_ptr<const ViewState> state() const {
+    std::lock_guard lock(mutex_);
+    return state_;
+  }
+  void set_state(std::shared_ptr<const ViewState> state) {
+    std::lock_guard lock(mutex_);
+    state_ = std::move(state);
+  }
+  // Serialises changes to one view (two joysticks, or a rig rebuild during an update).
+  std::mutex& change_mutex() { return change_mutex_; }
+
+  void add_subscriber(std::shared_ptr<Subscriber> s);
+  void remove_subscriber(const Subscriber* s);
+  std::vector<std::shared_ptr<Subscriber>> subscribers() const;
+  size_t subscriber_count() const;
+  void close_all(grpc::StatusCode code, const std::string& reason);
+
+  void record_map_build(double ms);
+  void record_frame(double latency_ms, std::chrono::steady_clock::time_point now);
+  ViewStats stats() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::mutex change_mutex_;
+  std::shared_ptr<const ViewState> state_;
+  std::vector<std::shared_ptr<Subscriber>> subscribers_;
+  ViewStats stats_;
+};
+
+}  // namespace omniview

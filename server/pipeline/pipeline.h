@@ -1,0 +1,98 @@
+// The daemon's engine: sources in, views rendered and encoded, frames out to subscribers.
+//
+//   source thread ──deliver──▶ SourceChannel slot ──▶ render worker (one per source)
+//        for each view of that source with a subscriber whose rate is due:
+//          apply the view's current map → encode once per EncodingKey → offer to each
+//          subscriber's latest-frame slot (never waits on a client)
+//   create/update (RPC thread): build the new map there, then swap it in atomically
+//   rig change (new extrinsics): a map thread rebuilds; frames keep the old map meanwhile
+//
+// Views without subscribers cost nothing; the source is told which cameras watched views
+// need (Source::set_wanted_cameras), so a robot is asked only for those.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "omniview/v1/omniview.pb.h"
+#include "server/pipeline/api_error.h"
+#include "server/pipeline/live_view.h"
+#include "server/pipeline/source_channel.h"
+#include "server/pipeline/subscriber.h"
+
+namespace omniview {
+
+struct PipelineLimits {
+  int64_t max_view_pixels = 4096LL * 4096;
+  int max_views = 32;
+};
+
+class Pipeline {
+ public:
+  explicit Pipeline(PipelineLimits limits = {});
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  // Before start(). The first source added is the default for views that name none.
+  void add_source(std::unique_ptr<Source> source);
+  void start();
+  // Ends every stream with `reason`, stops the sources and joins all threads. Idempotent.
+  void stop(const std::string& reason);
+
+  // All of these throw ApiError (NOT_FOUND, INVALID_ARGUMENT, ALREADY_EXISTS, ...).
+  std::vector<v1::Camera> cameras(const std::string& source) const;
+  v1::View create_view(ViewSpec spec);
+  v1::View update_view(const std::string& name, const v1::ViewSpec& set, const v1::ViewDelta& delta);
+  void delete_view(const std::string& name);
+  v1::View get_view(const std::string& name) const;
+  std::vector<v1::View> list_views() const;
+  v1::PixelToRayResponse pixel_to_ray(const std::string& view, double u, double v) const;
+  v1::PointToPixelResponse point_to_pixel(const std::string& view, const Vec3& point, const std::string& frame) const;
+
+  std::shared_ptr<Subscriber> subscribe(const std::string& view, const std::string& peer, EncodingKey key,
+                                        double max_rate_hz);
+  void unsubscribe(const std::string& view, const Subscriber* subscriber);
+  std::shared_ptr<FrameSetTap> tap(const std::string& source);
+  void untap(const std::string& source, const FrameSetTap* tap);
+  // The rig a source currently delivers (for recordings).
+  std::shared_ptr<const Rig> rig(const std::string& source) const;
+
+  v1::Status status() const;
+  bool stopped() const { return stopped_; }
+
+ private:
+  std::shared_ptr<LiveView> find_view(const std::string& name) const;
+  SourceChannel& channel(const std::string& source) const;  // "" = default source
+  std::shared_ptr<const ViewState> build_state(const ViewSpec& spec, uint64_t revision) const;
+  void update_wanted_cameras(const std::string& source);
+  void render_worker(SourceChannel* channel);
+  void render_view(LiveView& view, const FrameSet& frames);
+  void rebuild_worker();
+  void request_rebuild(const std::string& view);
+
+  const PipelineLimits limits_;
+  std::vector<std::unique_ptr<SourceChannel>> channels_;
+  std::vector<std::thread> workers_;
+  std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+
+  mutable std::mutex views_mutex_;
+  std::map<std::string, std::shared_ptr<LiveView>> views_;
+
+  std::mutex rebuild_mutex_;
+  std::condition_variable rebuild_ready_;
+  std::deque<std::string> rebuild_queue_;
+  std::thread rebuild_thread_;
+
+  std::atomic<bool> started_flag_{false};
+  std::atomic<bool> stopped_{false};
+};
+
+}  // namespace omniview

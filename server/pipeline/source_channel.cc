@@ -1,0 +1,115 @@
+#include "server/pipeline/source_channel.h"
+
+#include <algorithm>
+
+namespace omniview {
+
+void FrameSetTap::offer(std::shared_ptr<const FrameSet> frames) {
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    if (slot_) ++dropped_;
+    slot_ = std::move(frames);
+  }
+  ready_.notify_one();
+}
+
+void FrameSetTap::close(const std::string& reason) {
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    closed_ = true;
+    reason_ = reason;
+  }
+  ready_.notify_all();
+}
+
+std::optional<std::shared_ptr<const FrameSet>> FrameSetTap::take(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(mutex_);
+  ready_.wait_for(lock, timeout, [&] { return slot_ || closed_; });
+  if (slot_) return std::exchange(slot_, nullptr);
+  if (closed_) return std::shared_ptr<const FrameSet>{};
+  return std::nullopt;
+}
+
+std::string FrameSetTap::close_reason() const {
+  std::lock_guard lock(mutex_);
+  return reason_;
+}
+
+uint64_t FrameSetTap::dropped() const {
+  std::lock_guard lock(mutex_);
+  return dropped_;
+}
+
+void SourceChannel::deliver(std::shared_ptr<const FrameSet> frames) {
+  std::vector<std::shared_ptr<FrameSetTap>> taps;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    const auto now = frames->arrival;
+    if (stats_.last_arrival.time_since_epoch().count() != 0) {
+      const double dt = std::chrono::duration<double>(now - stats_.last_arrival).count();
+      if (dt > 0) stats_.rate_hz = stats_.rate_hz == 0 ? 1 / dt : 0.8 * stats_.rate_hz + 0.2 / dt;
+    }
+    stats_.last_arrival = now;
+    ++stats_.frames;
+    if (pending_) ++stats_.dropped;
+    pending_ = frames;
+    latest_ = frames;
+    taps = taps_;
+  }
+  ready_.notify_one();
+  for (const auto& t : taps) t->offer(frames);
+}
+
+std::shared_ptr<const FrameSet> SourceChannel::next() {
+  std::unique_lock lock(mutex_);
+  ready_.wait(lock, [&] { return pending_ || closed_; });
+  if (closed_) return nullptr;
+  return std::exchange(pending_, nullptr);
+}
+
+void SourceChannel::close() {
+  {
+    std::lock_guard lock(mutex_);
+    closed_ = true;
+  }
+  ready_.notify_all();
+}
+
+std::shared_ptr<const FrameSet> SourceChannel::latest() const {
+  std::lock_guard lock(mutex_);
+  return latest_;
+}
+
+void SourceChannel::add_tap(std::shared_ptr<FrameSetTap> tap) {
+  std::lock_guard lock(mutex_);
+  taps_.push_back(std::move(tap));
+}
+
+void SourceChannel::remove_tap(const FrameSetTap* tap) {
+  std::lock_guard lock(mutex_);
+  std::erase_if(taps_, [&](const auto& p) { return p.get() == tap; });
+}
+
+size_t SourceChannel::tap_count() const {
+  std::lock_guard lock(mutex_);
+  return taps_.size();
+}
+
+void SourceChannel::close_taps(const std::string& reason) {
+  std::vector<std::shared_ptr<FrameSetTap>> taps;
+  {
+    std::lock_guard lock(mutex_);
+    taps = taps_;
+  }
+  for (const auto& t : taps) t->close(reason);
+}
+
+SourceStats SourceChannel::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+}  // namespace omniview

@@ -1,0 +1,80 @@
+// A source and the pipeline's side of it: a latest-frame-set slot filled by the source's
+// thread and drained by one render worker, plus the source's statistics.
+//
+// If frame sets come faster than the worker renders them the slot keeps only the newest
+// (the skipped ones are counted as dropped): an operator wants the present, not a queue.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "server/source/source.h"
+
+namespace omniview {
+
+// A client recording what a source delivers (StreamSourceFrames): its own latest slot.
+class FrameSetTap {
+ public:
+  void offer(std::shared_ptr<const FrameSet> frames);
+  void close(const std::string& reason);
+  // nullopt on timeout; a null pointer once closed.
+  std::optional<std::shared_ptr<const FrameSet>> take(std::chrono::milliseconds timeout);
+  std::string close_reason() const;
+  uint64_t dropped() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::condition_variable ready_;
+  std::shared_ptr<const FrameSet> slot_;
+  bool closed_ = false;
+  std::string reason_;
+  uint64_t dropped_ = 0;
+};
+
+struct SourceStats {
+  uint64_t frames = 0;    // frame sets received
+  uint64_t dropped = 0;   // replaced in the slot before the worker took them
+  double rate_hz = 0;     // exponentially averaged
+  std::chrono::steady_clock::time_point last_arrival{};
+};
+
+class SourceChannel {
+ public:
+  explicit SourceChannel(std::unique_ptr<Source> source) : source_(std::move(source)) {}
+
+  Source& source() { return *source_; }
+  const Source& source() const { return *source_; }
+
+  // Source thread: store the newest frame set and wake the worker. Never blocks for long.
+  void deliver(std::shared_ptr<const FrameSet> frames);
+  // Worker thread: the next frame set, or null once closed.
+  std::shared_ptr<const FrameSet> next();
+  void close();
+
+  // The newest frame set seen (for snapshots of rig and images), may be null.
+  std::shared_ptr<const FrameSet> latest() const;
+
+  void add_tap(std::shared_ptr<FrameSetTap> tap);
+  void remove_tap(const FrameSetTap* tap);
+  size_t tap_count() const;
+  void close_taps(const std::string& reason);
+
+  SourceStats stats() const;
+
+ private:
+  std::unique_ptr<Source> source_;
+  mutable std::mutex mutex_;
+  std::condition_variable ready_;
+  std::shared_ptr<const FrameSet> pending_;
+  std::shared_ptr<const FrameSet> latest_;
+  bool closed_ = false;
+  std::vector<std::shared_ptr<FrameSetTap>> taps_;
+  SourceStats stats_;
+};
+
+}  // namespace omniview

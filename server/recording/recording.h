@@ -1,0 +1,96 @@
+// A recording: what a source delivered (images, capture times, the rig), on disk, so the
+// `replay` source can play it back. `omniview record` writes one from a running daemon.
+//
+// Layout of a recording folder (format described fully in recording.cc):
+//   recording.yaml   format name and version, source name, camera names, created time
+//   rig.yaml         the rig in our rig YAML schema (re-written as rig_<n>.yaml if it changes)
+//   frames.csv       one line per frame set, appended as it is written, so a recording cut
+//                    short (killed, disk full) stays readable up to its last complete line
+//   images/          one file per camera image, as delivered (JPEG bytes kept) or PNG
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "core/rig/rig.h"
+#include "server/source/frame_set.h"
+
+namespace omniview {
+
+// One camera image as stored: its encoded bytes and format ("jpeg" or "png").
+struct RecordedImage {
+  std::string camera;
+  std::string format;
+  std::vector<uint8_t> bytes;
+};
+
+class RecordingWriter {
+ public:
+  // Creates `folder` (it must not exist or be empty). Throws std::runtime_error naming the
+  // path on failure.
+  RecordingWriter(const std::string& folder, const std::string& source_name);
+  ~RecordingWriter();
+
+  // Writes the rig (when it differs from the last one written) and one frame set. Images
+  // are stored as given (encoded bytes); a camera missing from `images` is recorded as
+  // absent for that frame.
+  void write(uint64_t sequence, std::chrono::system_clock::time_point capture_time, const Rig& rig,
+             const std::vector<RecordedImage>& images);
+  // Convenience for a FrameSet: keeps the source's encoded bytes, PNG-encodes the rest.
+  void write(const FrameSet& frames);
+
+  size_t frames_written() const;
+  void close();  // flushes; also done by the destructor
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+struct RecordingFrame {
+  uint64_t sequence = 0;
+  std::chrono::system_clock::time_point capture_time;
+  size_t rig_index = 0;                 // into Recording::rigs
+  std::vector<std::string> image_files;  // per camera (rig order); empty: absent
+};
+
+// Reads the index (not the images). Throws ConfigError naming the file and line for a
+// missing or malformed recording.
+struct Recording {
+  std::string folder;
+  std::string source_name;
+  std::vector<std::string> camera_names;
+  std::vector<std::shared_ptr<const Rig>> rigs;
+  std::vector<RecordingFrame> frames;  // in capture order, at least one
+
+  static Recording open(const std::string& folder);
+  // Decodes one frame's images (CV_8UC1 or CV_8UC3 BGR, rig order). Throws
+  // std::runtime_error naming the file for a missing or corrupt image, or one whose size
+  // differs from its camera's calibration.
+  std::vector<cv::Mat> load_images(const RecordingFrame& frame) const;
+};
+
+// The index of a recording (recording.yaml + frames.csv) as parsed, before any rig or
+// image is read: what Recording::open builds on, and what the fuzz target exercises.
+struct RecordingIndex {
+  std::string source_name;
+  std::vector<std::string> camera_names;
+  size_t rig_count = 0;  // rigs the frames refer to: recording_rig_file(0 .. rig_count-1)
+  std::vector<RecordingFrame> frames;
+};
+
+// Parses the two index files' text; `folder` only names them in messages. Throws
+// ConfigError naming file and line. A last line without its newline (a recording cut
+// short) is ignored.
+RecordingIndex parse_recording_index(const std::string& recording_yaml, const std::string& frames_csv,
+                                     const std::string& folder);
+
+// "rig.yaml" for the first rig, "rig_<n>.yaml" for later ones.
+std::string recording_rig_file(size_t index);
+
+}  // namespace omniview

@@ -1,0 +1,198 @@
+// RecordingWriter: writes a recording folder (layout in recording.h).
+//
+// Format, version 1:
+//   recording.yaml  format: omniview-recording, version: 1, source: NAME,
+//                   cameras: [names, rig order], created: ISO 8601 UTC
+//   rig.yaml        the first rig (rig_to_yaml; masks beside it), rig_<n>.yaml later ones
+//   frames.csv      header "sequence,capture_time_ns,rig,<camera>,...", then one line per
+//                   frame set: sequence, capture time (ns since the Unix epoch), rig index,
+//                   and per camera its image file relative to the folder (empty: absent)
+//   images/         <frame number>_<camera index>.jpg|.png
+//
+// Each frame's images and rig are written before its frames.csv line, and the line is
+// flushed at once: every complete line refers only to files already on disk.
+#include <algorithm>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "server/recording/recording.h"
+
+namespace omniview {
+namespace fs = std::filesystem;
+
+struct RecordingWriter::Impl {
+  fs::path folder;
+  std::string source_name;
+  std::string created;
+  std::mutex mutex;
+  std::ofstream csv;
+  std::vector<std::string> camera_names;  // fixed by the first rig
+  std::string last_rig_yaml;
+  size_t rig_count = 0;
+  size_t frames = 0;
+  bool closed = false;
+
+  void start(const Rig& rig);
+  size_t rig_index_for(const Rig& rig);
+};
+
+namespace {
+
+std::string iso_utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+void write_file(const fs::path& path, const void* data, size_t size) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+  out.flush();
+  if (!out) throw std::runtime_error("cannot write '" + path.string() + "'");
+}
+
+std::string extension_of(const std::string& format) {
+  if (format == "jpeg") return ".jpg";
+  if (format == "png") return ".png";
+  throw std::invalid_argument("recording: unsupported image format '" + format + "' (jpeg or png)");
+}
+
+}  // namespace
+
+RecordingWriter::RecordingWriter(const std::string& folder, const std::string& source_name)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->folder = folder;
+  impl_->source_name = source_name;
+  impl_->created = iso_utc_now();
+  std::error_code ec;
+  if (fs::exists(impl_->folder, ec) && !fs::is_empty(impl_->folder, ec)) {
+    throw std::runtime_error("recording folder '" + folder + "' exists and is not empty");
+  }
+  fs::create_directories(impl_->folder / "images", ec);
+  if (ec) throw std::runtime_error("cannot create recording folder '" + folder + "': " + ec.message());
+}
+
+RecordingWriter::~RecordingWriter() {
+  try {
+    close();
+  } catch (...) {
+  }
+}
+
+// The first frame fixes the cameras: recording.yaml and the frames.csv header.
+void RecordingWriter::Impl::start(const Rig& rig) {
+  for (const Camera& cam : rig.cameras()) {
+    if (cam.name.find_first_of(",\r\n") != std::string::npos) {
+      throw std::invalid_argument("recording: camera name '" + cam.name + "' cannot go in frames.csv (',' or newline)");
+    }
+    camera_names.push_back(cam.name);
+  }
+  YAML::Emitter out;
+  out << YAML::BeginMap << YAML::Key << "format" << YAML::Value << "omniview-recording";
+  out << YAML::Key << "version" << YAML::Value << 1;
+  out << YAML::Key << "source" << YAML::Value << source_name;
+  out << YAML::Key << "cameras" << YAML::Value << YAML::Flow << camera_names;
+  out << YAML::Key << "created" << YAML::Value << created << YAML::EndMap;
+  const std::string text = std::string(out.c_str()) + "\n";
+  write_file(folder / "recording.yaml", text.data(), text.size());
+  csv.open(folder / "frames.csv", std::ios::binary | std::ios::trunc);
+  csv << "sequence,capture_time_ns,rig";
+  for (const auto& name : camera_names) csv << ',' << name;
+  csv << '\n';
+  csv.flush();
+  if (!csv) throw std::runtime_error("cannot write '" + (folder / "frames.csv").string() + "'");
+}
+
+size_t RecordingWriter::Impl::rig_index_for(const Rig& rig) {
+  std::vector<std::string> names;
+  for (const Camera& cam : rig.cameras()) names.push_back(cam.name);
+  if (names != camera_names) {
+    throw std::invalid_argument("recording: the rig's cameras changed; a recording keeps one camera set");
+  }
+  std::string text = rig_to_yaml(rig);
+  if (rig_count > 0 && text == last_rig_yaml) return rig_count - 1;
+  save_rig_yaml(rig, (folder / recording_rig_file(rig_count)).string());
+  last_rig_yaml = std::move(text);
+  return rig_count++;
+}
+
+void RecordingWriter::write(uint64_t sequence, std::chrono::system_clock::time_point capture_time, const Rig& rig,
+                            const std::vector<RecordedImage>& images) {
+  std::lock_guard lock(impl_->mutex);
+  if (impl_->closed) throw std::logic_error("RecordingWriter::write after close");
+  if (impl_->camera_names.empty()) impl_->start(rig);
+  const size_t rig_index = impl_->rig_index_for(rig);
+  std::vector<std::string> files(impl_->camera_names.size());
+  for (const RecordedImage& image : images) {
+    const auto it = std::find(impl_->camera_names.begin(), impl_->camera_names.end(), image.camera);
+    if (it == impl_->camera_names.end()) {
+      throw std::invalid_argument("recording: image for unknown camera '" + image.camera + "'");
+    }
+    const size_t cam = static_cast<size_t>(it - impl_->camera_names.begin());
+    files[cam] = "images/" + std::to_string(impl_->frames) + "_" + std::to_string(cam) + extension_of(image.format);
+    write_file(impl_->folder / files[cam], image.bytes.data(), image.bytes.size());
+  }
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(capture_time.time_since_epoch()).count();
+  impl_->csv << sequence << ',' << ns << ',' << rig_index;
+  for (const auto& file : files) impl_->csv << ',' << file;
+  impl_->csv << '\n';
+  impl_->csv.flush();
+  if (!impl_->csv) throw std::runtime_error("cannot append to '" + (impl_->folder / "frames.csv").string() + "'");
+  ++impl_->frames;
+}
+
+void RecordingWriter::write(const FrameSet& frames) {
+  if (!frames.rig) throw std::invalid_argument("recording: frame set without a rig");
+  const auto& cameras = frames.rig->cameras();
+  if (frames.images.size() != cameras.size()) {
+    throw std::invalid_argument("recording: frame set has " + std::to_string(frames.images.size()) +
+                                " images for " + std::to_string(cameras.size()) + " cameras");
+  }
+  std::vector<RecordedImage> images;
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    const cv::Mat& mat = frames.images[i];
+    const EncodedImage* encoded = i < frames.encoded.size() ? &frames.encoded[i] : nullptr;
+    const bool has_bytes = encoded && !encoded->format.empty() && encoded->bytes;
+    if (mat.empty() && !has_bytes) continue;
+    if (!mat.empty() && (mat.cols != cameras[i].width || mat.rows != cameras[i].height)) {
+      throw std::invalid_argument("recording: camera '" + cameras[i].name + "' image is " + std::to_string(mat.cols) +
+                                  "x" + std::to_string(mat.rows) + ", its calibration is " +
+                                  std::to_string(cameras[i].width) + "x" + std::to_string(cameras[i].height));
+    }
+    RecordedImage image{cameras[i].name, "png", {}};
+    if (has_bytes) {
+      image.format = encoded->format;
+      image.bytes = *encoded->bytes;
+    } else if (!cv::imencode(".png", mat, image.bytes)) {
+      throw std::runtime_error("recording: cannot PNG-encode camera '" + cameras[i].name + "' image");
+    }
+    images.push_back(std::move(image));
+  }
+  write(frames.sequence, frames.capture_time, *frames.rig, images);
+}
+
+size_t RecordingWriter::frames_written() const {
+  std::lock_guard lock(impl_->mutex);
+  return impl_->frames;
+}
+
+void RecordingWriter::close() {
+  std::lock_guard lock(impl_->mutex);
+  if (impl_->closed) return;
+  impl_->closed = true;
+  if (impl_->csv.is_open()) {
+    impl_->csv.close();
+    if (impl_->csv.fail()) throw std::runtime_error("cannot close '" + (impl_->folder / "frames.csv").string() + "'");
+  }
+}
+
+}  // namespace omniview

@@ -1,0 +1,23 @@
+#include "server/sources/builtin_sources.h"
+
+#include <mutex>
+
+#include "server/sources/images_source.h"
+#include "server/sources/replay_source.h"
+
+namespace omniview {
+
+void register_builtin_sources() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    register_source_type("images",
+                         "a fixed image per camera, delivered at rate_hz (keys: rig, rig_frame, rig_pose, "
+                         "images {camera: file}, rate_hz)",
+                         make_images_source);
+    register_source_type("replay",
+                         "plays back a recording made by `omniview record` (keys: recording, rate_hz, speed, loop)",
+                         make_replay_source);
+  });
+}
+
+}  // namespace omniview

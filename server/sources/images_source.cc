@@ -1,0 +1,105 @@
+#include "server/sources/images_source.h"
+
+#include <filesystem>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "server/sources/source_config_helpers.h"
+
+namespace omniview {
+namespace {
+
+cv::Mat load_camera_image(const SourceConfig& config, const YAML::Node& node, const std::string& key,
+                          const Camera& cam) {
+  const YamlReader& r = *config.reader;
+  std::string path = r.text(node, key);
+  if (!std::filesystem::path(path).is_absolute() && !config.folder.empty()) {
+    path = (std::filesystem::path(config.folder) / path).string();
+  }
+  cv::Mat image = cv::imread(path, cv::IMREAD_ANYCOLOR);
+  if (image.empty()) {
+    r.fail(node, key, "cannot read image '" + path + "' for camera '" + cam.name + "' (missing or corrupt)");
+  }
+  if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
+  if (image.cols != cam.width || image.rows != cam.height) {
+    r.fail(node, key, "image '" + path + "' is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                          ", camera '" + cam.name + "' is calibrated for " + std::to_string(cam.width) + "x" +
+                          std::to_string(cam.height));
+  }
+  return image;
+}
+
+}  // namespace
+
+ImagesSource::ImagesSource(const SourceConfig& config) : Source(config.name) {
+  const YamlReader& r = *config.reader;
+  r.expect_keys(config.node, config.path, {"name", "type", "rig", "rig_frame", "rig_pose", "images", "rate_hz"});
+  rig_ = load_config_rig(config);
+  rate_hz_ = positive_number(config, "rate_hz", 10);
+  const std::string images_key = config.path + ".images";
+  const YAML::Node images = r.required(config.node, "images", config.path);
+  if (!images.IsMap()) r.fail(images, images_key, "expected a map {camera: image file}");
+  for (const auto& kv : images) {
+    const std::string camera = kv.first.Scalar();
+    if (!rig_->find(camera)) r.fail(kv.first, images_key + "." + camera, "the rig has no camera '" + camera + "'");
+  }
+  for (const Camera& cam : rig_->cameras()) {
+    const YAML::Node node = images[cam.name];
+    if (!node) r.fail(images, images_key, "no image for camera '" + cam.name + "' (every rig camera needs one)");
+    images_.push_back(load_camera_image(config, node, images_key + "." + cam.name, cam));
+  }
+}
+
+ImagesSource::~ImagesSource() { stop(); }
+
+void ImagesSource::start(FrameCallback on_frame) {
+  {
+    std::lock_guard lock(health_mutex_);
+    health_.connected = true;
+  }
+  thread_.start([this, on_frame = std::move(on_frame)] { run(on_frame); });
+}
+
+void ImagesSource::stop() {
+  thread_.stop();
+  std::lock_guard lock(health_mutex_);
+  health_.connected = false;
+}
+
+SourceHealth ImagesSource::health() const {
+  std::lock_guard lock(health_mutex_);
+  return health_;
+}
+
+void ImagesSource::run(FrameCallback on_frame) {
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(1.0 / rate_hz_));
+  auto due = std::chrono::steady_clock::now();
+  for (uint64_t sequence = 1;; ++sequence) {
+    if (!thread_.wait_until(due)) return;
+    auto frames = std::make_shared<FrameSet>();
+    frames->sequence = sequence;
+    frames->capture_time = std::chrono::system_clock::now();
+    frames->arrival = std::chrono::steady_clock::now();
+    frames->rig = rig_;
+    frames->rig_version = 1;
+    frames->images = images_;  // shares the pixel data; nobody writes to it
+    on_frame(std::move(frames));
+    {
+      std::lock_guard lock(health_mutex_);
+      ++health_.frames;
+    }
+    // Deadlines step from the last deadline, not from now, so the rate does not drift;
+    // after a stall (a slow machine) restart from now instead of bursting to catch up.
+    due += period;
+    const auto now = std::chrono::steady_clock::now();
+    if (due + period < now) due = now;
+  }
+}
+
+std::unique_ptr<Source> make_images_source(const SourceConfig& config) {
+  return std::make_unique<ImagesSource>(config);
+}
+
+}  // namespace omniview

@@ -1,0 +1,35 @@
+// Fuzz target: a recording's index (recording.yaml + frames.csv), which the replay source
+// reads from disk. Input: recording.yaml's text, a line "=====", then frames.csv's text.
+// A ConfigError is the expected answer to bad input; anything else is a bug.
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "core/io/yaml_reader.h"
+#include "server/recording/recording.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string input(reinterpret_cast<const char*>(data), size);
+  const std::string separator = "\n=====\n";
+  const size_t split = input.find(separator);
+  const std::string yaml = input.substr(0, split);
+  const std::string csv = split == std::string::npos ? "" : input.substr(split + separator.size());
+  try {
+    const auto index = omniview::parse_recording_index(yaml, csv, "fuzz");
+    // What Recording::open and the replay source rely on after a successful parse.
+    if (index.frames.empty() || index.camera_names.empty()) std::abort();
+    for (const auto& frame : index.frames) {
+      if (frame.rig_index >= index.rig_count || frame.image_files.size() != index.camera_names.size()) std::abort();
+      for (const auto& file : frame.image_files) {
+        if (!file.empty() && file[0] == '/') std::abort();
+        for (const auto& part : std::filesystem::path(file)) {
+          if (part == "..") std::abort();  // must stay inside the recording folder
+        }
+      }
+    }
+  } catch (const omniview::ConfigError&) {
+  }
+  return 0;
+}

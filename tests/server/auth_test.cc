@@ -1,0 +1,116 @@
+// Tokens and roles through the real daemon, in plaintext and over TLS with a test CA.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "daemon_process.h"
+
+namespace omniview::testing {
+namespace {
+
+const char* kTokens = R"(tokens:
+  - {role: viewer, token: viewer-secret-123}
+  - {role: operator, token: operator-secret-456}
+views:
+  - {name: front, type: perspective, width: 128, height: 64}
+)";
+
+v1::CreateViewRequest a_view() {
+  v1::CreateViewRequest req;
+  req.mutable_spec()->set_name("other");
+  req.mutable_spec()->set_type(v1::PERSPECTIVE);
+  return req;
+}
+
+TEST(Auth, RolesDecideWhatACallerMayDo) {
+  TempDir dir;
+  DaemonProcess daemon(dir, example_config(10, kTokens));
+  auto stub = make_stub(daemon.address());
+  v1::ListViewsResponse list;
+  v1::View view;
+
+  auto s = stub->ListViews(make_context().get(), {}, &list);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_NE(s.error_message().find("Bearer"), std::string::npos) << s.error_message();
+  s = stub->ListViews(make_context("wrong-token").get(), {}, &list);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::UNAUTHENTICATED);
+  EXPECT_EQ(s.error_message().find("wrong-token"), std::string::npos);  // secrets are never echoed
+
+  EXPECT_TRUE(stub->ListViews(make_context("viewer-secret-123").get(), {}, &list).ok());
+  s = stub->CreateView(make_context("viewer-secret-123").get(), a_view(), &view);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::PERMISSION_DENIED);
+  EXPECT_NE(s.error_message().find("operator"), std::string::npos);
+  v1::UpdateViewRequest update;
+  update.set_name("front");
+  update.mutable_delta()->set_yaw_deg(5);
+  EXPECT_EQ(stub->UpdateView(make_context("viewer-secret-123").get(), update, &view).error_code(),
+            grpc::StatusCode::PERMISSION_DENIED);
+  v1::DeleteViewRequest del;
+  del.set_name("front");
+  v1::DeleteViewResponse deleted;
+  EXPECT_EQ(stub->DeleteView(make_context("viewer-secret-123").get(), del, &deleted).error_code(),
+            grpc::StatusCode::PERMISSION_DENIED);
+
+  // A viewer may watch.
+  v1::StreamFramesRequest req;
+  req.set_view("front");
+  auto ctx = make_context("viewer-secret-123");
+  auto reader = stub->StreamFrames(ctx.get(), req);
+  v1::Frame f;
+  EXPECT_TRUE(reader->Read(&f));
+  ctx->TryCancel();
+  reader->Finish();
+  // An unauthenticated stream ends at once.
+  auto ctx2 = make_context();
+  auto reader2 = stub->StreamFrames(ctx2.get(), req);
+  EXPECT_FALSE(reader2->Read(&f));
+  EXPECT_EQ(reader2->Finish().error_code(), grpc::StatusCode::UNAUTHENTICATED);
+
+  EXPECT_TRUE(stub->CreateView(make_context("operator-secret-456").get(), a_view(), &view).ok());
+  EXPECT_TRUE(stub->UpdateView(make_context("operator-secret-456").get(), update, &view).ok());
+  EXPECT_TRUE(stub->DeleteView(make_context("operator-secret-456").get(), del, &deleted).ok());
+
+  EXPECT_EQ(daemon.log().find("secret"), std::string::npos) << daemon.log();
+}
+
+std::string read_file(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(Auth, TlsWithATestCaAndClientCertificates) {
+  TempDir dir;
+  const auto certs = dir.path() / "certs";
+  ASSERT_EQ(std::system(("bash " + std::string(OMNIVIEW_SOURCE_DIR) + "/scripts/make-test-certs.sh " +
+                         certs.string()).c_str()),
+            0);
+  std::string tls = "tls: {cert: " + (certs / "server.crt").string() + ", key: " + (certs / "server.key").string() +
+                    ", client_ca: " + (certs / "ca.crt").string() + "}\n";
+  DaemonProcess daemon(dir, example_config(10, tls + kTokens));
+  const std::string port = daemon.address().substr(daemon.address().rfind(':') + 1);
+  const std::string host = "localhost:" + port;  // the name in the server certificate
+
+  grpc::SslCredentialsOptions with_cert;
+  with_cert.pem_root_certs = read_file(certs / "ca.crt");
+  with_cert.pem_cert_chain = read_file(certs / "client.crt");
+  with_cert.pem_private_key = read_file(certs / "client.key");
+  auto stub = make_stub(host, grpc::SslCredentials(with_cert));
+  v1::ListViewsResponse list;
+  const auto ok = stub->ListViews(make_context("viewer-secret-123").get(), {}, &list);
+  EXPECT_TRUE(ok.ok()) << ok.error_message();
+  EXPECT_EQ(list.views_size(), 1);
+
+  grpc::SslCredentialsOptions no_cert;
+  no_cert.pem_root_certs = with_cert.pem_root_certs;
+  auto anonymous = make_stub(host, grpc::SslCredentials(no_cert));
+  EXPECT_FALSE(anonymous->ListViews(make_context("viewer-secret-123", std::chrono::seconds(3)).get(), {}, &list).ok());
+
+  auto plaintext = make_stub(host);
+  EXPECT_FALSE(plaintext->ListViews(make_context("viewer-secret-123", std::chrono::seconds(3)).get(), {}, &list).ok());
+}
+
+}  // namespace
+}  // namespace omniview::testing

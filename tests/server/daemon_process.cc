@@ -1,0 +1,166 @@
+#include "daemon_process.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+extern char** environ;
+
+namespace omniview::testing {
+
+namespace fs = std::filesystem;
+
+TempDir::TempDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "omniview";
+  path_ = fs::temp_directory_path() / ("omniview_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(path_);
+  fs::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  if (info && info->result()->Failed()) return;
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
+std::string TempDir::write(const std::string& name, const std::string& text) const {
+  const fs::path p = path_ / name;
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string example_dir() { return std::string(OMNIVIEW_SOURCE_DIR) + "/config/examples/dual_fisheye"; }
+
+std::string example_config(double rate_hz, const std::string& extra) {
+  std::ostringstream s;
+  s << "listen: 127.0.0.1:0\n"
+    << "sources:\n"
+    << "  - name: examples\n"
+    << "    type: images\n"
+    << "    rig: " << example_dir() << "/rig.yaml\n"
+    << "    images: {front: " << example_dir() << "/front.jpg, back: " << example_dir() << "/back.jpg}\n"
+    << "    rate_hz: " << rate_hz << "\n"
+    << extra;
+  return s.str();
+}
+
+DaemonProcess::DaemonProcess(const TempDir& dir, const std::string& config_text, std::vector<std::string> extra_args) {
+  static int counter = 0;
+  const std::string tag = std::to_string(++counter);
+  const std::string config = dir.write("omniviewd_" + tag + ".yaml", config_text);
+  const fs::path ready = dir.path() / ("ready_" + tag);
+  log_file_ = dir.path() / ("omniviewd_" + tag + ".log");
+
+  std::vector<std::string> args = {OMNIVIEWD, "--config", config, "--ready-file", ready.string()};
+  for (auto& a : extra_args) args.push_back(std::move(a));
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log_file_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  const int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) throw std::runtime_error("cannot start " + std::string(OMNIVIEWD));
+
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (fs::exists(ready)) {
+      std::ifstream(ready) >> address_;
+      return;
+    }
+    int status = 0;
+    if (waitpid(pid_, &status, WNOHANG) == pid_) {
+      pid_ = -1;
+      ADD_FAILURE() << "omniviewd exited before serving:\n" << log();
+      throw std::runtime_error("omniviewd did not start");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ADD_FAILURE() << "omniviewd not ready within 20 s:\n" << log();
+  throw std::runtime_error("omniviewd did not start");
+}
+
+DaemonProcess::~DaemonProcess() {
+  if (pid_ > 0) stop(SIGKILL, std::chrono::seconds(5));
+}
+
+std::string DaemonProcess::log() const {
+  std::ifstream in(log_file_);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+long DaemonProcess::rss_kb() const {
+  std::ifstream in("/proc/" + std::to_string(pid_) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  }
+  return -1;
+}
+
+int DaemonProcess::stop(int sig, std::chrono::seconds timeout) {
+  if (pid_ <= 0) return -1;
+  kill(pid_, sig);
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  int status = 0;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (waitpid(pid_, &status, WNOHANG) == pid_) {
+      pid_ = -1;
+      if (WIFEXITED(status)) return WEXITSTATUS(status);
+      return 128 + WTERMSIG(status);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  kill(pid_, SIGKILL);
+  waitpid(pid_, &status, 0);
+  pid_ = -1;
+  return -1;
+}
+
+ProcessResult run_process(const std::string& command_line) {
+  ProcessResult r;
+  FILE* pipe = popen((command_line + " 2>&1").c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buf;
+  while (size_t n = fread(buf.data(), 1, buf.size(), pipe)) r.output.append(buf.data(), n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::unique_ptr<v1::Omniview::Stub> make_stub(const std::string& address,
+                                              std::shared_ptr<grpc::ChannelCredentials> creds) {
+  if (!creds) creds = grpc::InsecureChannelCredentials();
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(64 << 20);
+  // A connection of its own, like a separate client: by default gRPC shares one connection
+  // among channels with equal arguments, and the daemon's per-connection limits would bite.
+  args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);
+  return v1::Omniview::NewStub(grpc::CreateCustomChannel(address, creds, args));
+}
+
+std::unique_ptr<grpc::ClientContext> make_context(const std::string& token, std::chrono::milliseconds deadline) {
+  auto ctx = std::make_unique<grpc::ClientContext>();
+  ctx->set_deadline(std::chrono::system_clock::now() + deadline);
+  if (!token.empty()) ctx->AddMetadata("authorization", "Bearer " + token);
+  return ctx;
+}
+
+}  // namespace omniview::testing

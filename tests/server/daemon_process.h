@@ -1,0 +1,72 @@
+// The real omniviewd, started as a separate process on a free loopback port, for tests.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <grpcpp/grpcpp.h>
+
+#include "omniview/v1/omniview.grpc.pb.h"
+
+namespace omniview::testing {
+
+// A scratch folder removed at the end (unless the test failed: then it is kept for a look).
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+  std::string write(const std::string& name, const std::string& text) const;  // returns the full path
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Where the bundled example rig and images are (absolute).
+std::string example_dir();
+
+// A config serving the bundled dual-fisheye example as source `examples` (images at
+// `rate_hz`), listening on a free loopback port, followed by `extra` YAML (views, tokens...).
+std::string example_config(double rate_hz = 30, const std::string& extra = "");
+
+class DaemonProcess {
+ public:
+  // Starts omniviewd with `config_text` (written into `dir`) and waits until it serves.
+  // Fails the test (and throws) if it exits or does not become ready within 20 s.
+  DaemonProcess(const TempDir& dir, const std::string& config_text, std::vector<std::string> extra_args = {});
+  ~DaemonProcess();
+
+  const std::string& address() const { return address_; }
+  pid_t pid() const { return pid_; }
+  std::string log() const;
+  long rss_kb() const;  // resident memory, from /proc
+
+  // Sends `sig` and waits up to `timeout` for the exit; returns the exit code (-1: it did
+  // not exit in time and was killed; 128+n: killed by signal n).
+  int stop(int sig = 15, std::chrono::seconds timeout = std::chrono::seconds(10));
+
+ private:
+  std::filesystem::path log_file_;
+  std::string address_;
+  pid_t pid_ = -1;
+};
+
+// Runs omniviewd to completion (config errors, --check, --help): exit code and output.
+struct ProcessResult {
+  int exit_code = -1;
+  std::string output;
+};
+ProcessResult run_process(const std::string& command_line);
+
+std::unique_ptr<v1::Omniview::Stub> make_stub(const std::string& address,
+                                              std::shared_ptr<grpc::ChannelCredentials> creds = nullptr);
+// A context with a 10 s deadline and, if `token` is not empty, the bearer token.
+std::unique_ptr<grpc::ClientContext> make_context(const std::string& token = "",
+                                                  std::chrono::milliseconds deadline = std::chrono::seconds(10));
+
+}  // namespace omniview::testing
