@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs, builds and runs the whole test suite (CTest), the way CI does: first the
-# release build, then the same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
+# release build, then the same tests under AddressSanitizer + UndefinedBehaviorSanitizer,
+# then the serving half (daemon, sources, clients: label `server`) under ThreadSanitizer.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -13,3 +14,11 @@ cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOMNIVIEW_S
 cmake --build build-asan -j "$(nproc)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j "$(nproc)"
+
+echo "== the serving half under ThreadSanitizer =="
+cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DOMNIVIEW_TSAN=ON \
+  -DOMNIVIEW_BUILD_TESTS=ON -DOMNIVIEW_BUILD_BENCH=OFF > /dev/null
+cmake --build build-tsan -j "$(nproc)" --target omniviewd omniview views_api_test streaming_test auth_test \
+  lifecycle_test clients_test images_source_test replay_source_test recording_test cli_client_test client_cli_test
+TSAN_OPTIONS="suppressions=$PWD/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
+  ctest --test-dir build-tsan -L server --output-on-failure -j "$(nproc)"

@@ -10,9 +10,7 @@
 #include <string>
 
 #include "tests/cli_client/fake_omniviewd.h"
-#ifdef OMNIVIEW_HAVE_RECORDING
 #include "server/recording/recording.h"
-#endif
 
 namespace {
 
@@ -282,7 +280,6 @@ TEST_F(AgainstFake, RecordWritesARecording) {
   int lines = 0;
   for (std::string line; std::getline(csv, line);) ++lines;
   EXPECT_GE(lines, 3);
-#ifdef OMNIVIEW_HAVE_RECORDING
   // What the replay source reads back: the rig, every frame, the raw image stored as PNG.
   const auto recording = omniview::Recording::open(out.string());
   EXPECT_EQ(recording.source_name, "sim");
@@ -296,7 +293,6 @@ TEST_F(AgainstFake, RecordWritesARecording) {
     EXPECT_EQ(images[0].cols, 16);
     EXPECT_EQ(images[0].rows, 12);
   }
-#endif
   // Not into a folder that holds something.
   r = omniview("record -o " + out.string() + " --frames 1");
   EXPECT_EQ(r.exit_code, 2);

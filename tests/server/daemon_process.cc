@@ -22,7 +22,9 @@ namespace fs = std::filesystem;
 TempDir::TempDir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   const std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "omniview";
-  path_ = fs::temp_directory_path() / ("omniview_" + std::to_string(::getpid()) + "_" + name);
+  static int count = 0;  // several in one test must not share a folder
+  path_ = fs::temp_directory_path() /
+          ("omniview_" + std::to_string(::getpid()) + "_" + name + "_" + std::to_string(count++));
   fs::remove_all(path_);
   fs::create_directories(path_);
 }
