@@ -15,6 +15,7 @@
 namespace {
 
 constexpr const char* kUsage = R"(usage: omniview COMMAND [options]
+       omniview --version
 
 commands:
   render    compute views offline from a rig and images (omniview render --help)
@@ -53,6 +54,10 @@ int main(int argc, char** argv) {
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     std::cout << kUsage;
     return args.empty() ? 2 : 0;
+  }
+  if (args[0] == "--version") {
+    std::cout << "omniview " << OMNIVIEW_VERSION << "\n";  // the project version, from CMake
+    return 0;
   }
   const std::string command = args[0];
   const std::vector<std::string> rest(args.begin() + 1, args.end());

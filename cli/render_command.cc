@@ -1,15 +1,21 @@
 #include "cli/render_command.h"
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 
+#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "cli/args.h"
+#include "core/io/yaml_reader.h"
 #include "core/map/apply.h"
 #include "core/map/fusion_map.h"
 #include "core/rig/rig.h"
@@ -19,24 +25,39 @@
 namespace omniview::cli {
 namespace {
 
+namespace fs = std::filesystem;
+
 constexpr const char* kHelp = R"(usage: omniview render --rig RIG.yaml --image CAM=PATH ... --view VIEW.yaml ... --out OUT
        omniview render --list-models | --list-view-types
 
 Computes views offline from a calibrated rig and one image per camera.
 
   --rig FILE          our rig YAML, or a kalibr camchain.yaml (cam0, cam1, ...)
-  --rig-frame NAME    camchain only: the robot frame cam0 is posed in (default base_link)
-  --rig-pose "x y z yaw pitch roll"
-                      camchain only: pose of cam0's optical frame in --rig-frame
-                      (metres, degrees; default all zero)
+  --rig-frame NAME    camchain only: the robot frame cam0 is posed in (default base_link);
+                      views are posed in it unless they name another 'frame'
+  --rig-pose "x y z yaw pitch roll" | "x y z qx qy qz qw"
+                      camchain only: the pose of cam0's optical frame (z along the optical
+                      axis, x right, y down) in --rig-frame (x forward, y left, z up), as
+                      T_parent_cam in our rig YAML: metres, then yaw, pitch, roll in degrees
+                      (R = Rz(yaw)*Ry(pitch)*Rx(roll)) or a unit quaternion. Default all
+                      zero: cam0 looks along the frame's +z. Example: cam0 1 m up, looking
+                      along +x (forward) with the image's top up:
+                        --rig-pose "0 0 1 -90 0 -90"   (or "0 0 1 -0.5 0.5 -0.5 0.5")
   --image CAM=PATH    the image of camera CAM (repeat for each camera a view needs)
-  --view FILE         a view YAML (one view, or 'views: [...]'); repeatable
-  --out PATH          output image (.png, .jpg); with several views, a folder that
-                      receives NAME.png per view
+  --view FILE         a view YAML (one view, or 'views: [...]'); repeatable; view names
+                      must be unique
+  --out PATH          one view: the output image (.png, .jpg, ...), or a folder (existing,
+                      or written with a trailing '/') that receives NAME.png;
+                      several views: a folder, which receives NAME.png per view
   --grey | --colour   output greyscale or colour (default: colour if any input is)
   --list-models       camera models and their parameters
   --list-view-types   view types and their parameters
+  -h, --help          this help
 )";
+
+const OptionSpec kOptions{.switches = {"grey", "colour", "color", "list-models", "list-view-types"},
+                          .single = {"rig", "rig-frame", "rig-pose", "out"},
+                          .repeatable = {"image", "view"}};
 
 void list_models() {
   std::cout << "camera models (kalibr names: camera_model + distortion_model):\n";
@@ -59,101 +80,323 @@ void list_view_types() {
                "     fusion (nearest | blend), feather_px\n";
 }
 
-Pose parse_rig_pose(const std::string& text) {
-  std::istringstream in(text);
-  double v[6];
-  for (double& x : v) {
-    if (!(in >> x)) throw UsageError("--rig-pose needs six numbers \"x y z yaw pitch roll\", got \"" + text + "\"");
-  }
-  const double d = M_PI / 180;
-  return make_pose(Vec3(v[0], v[1], v[2]), v[3] * d, v[4] * d, v[5] * d);
+std::string joined(const std::vector<std::string>& words, const std::string& separator = ", ") {
+  std::string out;
+  for (const auto& w : words) out += (out.empty() ? "" : separator) + w;
+  return out;
 }
 
-cv::Mat read_image(const std::string& camera, const std::string& path) {
-  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) throw std::runtime_error("camera '" + camera + "': cannot read image '" + path + "'");
-  if (img.depth() != CV_8U) {
-    throw std::runtime_error("camera '" + camera + "': image '" + path + "' is not 8-bit");
+// ---- options ----
+
+void check_option_combinations(const Args& args) {
+  if (args.has("grey") && (args.has("colour") || args.has("color"))) {
+    throw UsageError("--grey and --colour contradict each other; give one of them");
   }
+  if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional()[0] + "'");
+  for (const char* needed : {"rig", "view", "out"}) args.required(needed);
+}
+
+// Whitespace- or comma-separated numbers, each one whole and finite.
+std::vector<double> parse_numbers(std::string text, const std::string& option) {
+  std::replace(text.begin(), text.end(), ',', ' ');
+  std::istringstream in(text);
+  std::vector<double> numbers;
+  for (std::string word; in >> word;) {
+    char* end = nullptr;
+    const double x = std::strtod(word.c_str(), &end);
+    if (end != word.c_str() + word.size() || !std::isfinite(x)) {
+      throw UsageError(option + ": '" + word + "' is not a number");
+    }
+    numbers.push_back(x);
+  }
+  return numbers;
+}
+
+// The forms of T_parent_cam in our rig YAML: xyz with ypr_deg, or with quat_xyzw.
+Pose parse_rig_pose(const std::string& text) {
+  const std::vector<double> v = parse_numbers(text, "--rig-pose");
+  const Vec3 xyz = v.size() >= 3 ? Vec3(v[0], v[1], v[2]) : Vec3::Zero();
+  if (v.size() == 6) {
+    constexpr double kDeg = M_PI / 180;
+    return make_pose(xyz, v[3] * kDeg, v[4] * kDeg, v[5] * kDeg);
+  }
+  if (v.size() == 7) {
+    const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
+    if (std::abs(q.norm() - 1) > 1e-3) {
+      throw UsageError("--rig-pose: the quaternion qx qy qz qw must have unit length, has " + std::to_string(q.norm()));
+    }
+    Pose T = Pose::Identity();
+    T.linear() = q.normalized().toRotationMatrix();
+    T.translation() = xyz;
+    return T;
+  }
+  throw UsageError("--rig-pose needs 6 numbers \"x y z yaw pitch roll\" (metres, degrees) or 7 numbers "
+                   "\"x y z qx qy qz qw\", got " + count_of(v.size(), "number", "numbers") + ": \"" + text + "\"");
+}
+
+// ---- the rig ----
+
+struct LoadedRig {
+  Rig rig;
+  bool camchain = false;
+};
+
+LoadedRig load_rig_from_args(const Args& args) {
+  const std::string path = args.required("rig");
+  const YamlReader reader = YamlReader::from_file(path);
+  if (is_kalibr_camchain(reader)) {
+    const Pose T_frame_cam0 = args.has("rig-pose") ? parse_rig_pose(args.get("rig-pose")) : Pose::Identity();
+    return {parse_kalibr_camchain(reader, args.get("rig-frame", "base_link"), T_frame_cam0), true};
+  }
+  // Our rig YAML poses every camera itself; silently ignoring these would mislead.
+  for (const std::string option : {"rig-frame", "rig-pose"}) {
+    if (args.has(option)) {
+      throw UsageError("--" + option + " applies only to kalibr camchains, but '" + path +
+                       "' is our rig YAML, which gives the rig's 'frame' and each camera's pose itself "
+                       "(T_parent_cam or mount)");
+    }
+  }
+  return {parse_rig_yaml(reader, fs::path(path).parent_path().string()), false};
+}
+
+// ---- the views ----
+
+struct NamedView {
+  ViewSpec spec;
+  std::string source;  // where it was defined, for messages: "views.yaml views[1]"
+};
+
+// Each view is written as, and addressed by, its name: two of one name would overwrite.
+void reject_taken_name(const std::vector<NamedView>& views, const NamedView& view) {
+  for (const auto& other : views) {
+    if (other.spec.name == view.spec.name) {
+      throw UsageError("view name '" + view.spec.name + "' is used twice: in " + other.source + " and in " +
+                       view.source + "; view names must be unique");
+    }
+  }
+}
+
+std::vector<NamedView> load_views_from_args(const Args& args) {
+  std::vector<NamedView> views;
+  for (const auto& file : args.all("view")) {
+    const std::vector<ViewSpec> specs = load_views(file);
+    for (size_t i = 0; i < specs.size(); ++i) {
+      NamedView view{specs[i], specs.size() == 1 ? file : file + " views[" + std::to_string(i) + "]"};
+      reject_taken_name(views, view);
+      views.push_back(std::move(view));
+    }
+  }
+  return views;
+}
+
+// A view posed in a frame the rig does not know would only fail once earlier views are
+// written; checked for all views up front.
+void check_view_frame(const NamedView& view, const LoadedRig& loaded) {
+  const Rig& rig = loaded.rig;
+  const std::string frame = view.spec.frame.empty() ? rig.default_frame() : view.spec.frame;
+  const std::vector<std::string> known = rig.known_frames();
+  if (std::find(known.begin(), known.end(), frame) != known.end()) return;
+  std::string message = "view '" + view.spec.name + "' (" + view.source + "): frame '" + frame +
+                        "' is not a frame of the rig (known frames: " + joined(known) + ")";
+  message += loaded.camchain ? "; a camchain's cameras are posed in --rig-frame (now '" + rig.default_frame() +
+                                   "'): give --rig-frame " + frame + " to pose cam0 in '" + frame + "'"
+                             : "; add it under the rig's 'frames:', or pose the view in a known frame";
+  throw std::runtime_error(message);
+}
+
+// ---- output paths ----
+
+// The image formats we offer for --out: those this OpenCV build writes from 8-bit images.
+const std::vector<std::string>& writable_extensions() {
+  static const std::vector<std::string> writable = [] {
+    std::vector<std::string> out;
+    for (const char* ext : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".webp", ".ppm", ".pgm"}) {
+      if (cv::haveImageWriter(std::string("x") + ext)) out.push_back(ext);
+    }
+    return out;
+  }();
+  return writable;
+}
+
+std::string lowercase_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+void check_image_file_name(const std::string& out) {
+  const std::string ext = lowercase_extension(out);
+  const auto& writable = writable_extensions();
+  if (ext.empty()) {
+    throw UsageError("--out " + out + ": give the output image a file extension (" + joined(writable, " ") +
+                     "), or end it with '/' to write NAME.png into that folder");
+  }
+  if (std::find(writable.begin(), writable.end(), ext) == writable.end()) {
+    throw UsageError("--out " + out + ": cannot write " + ext + " images; supported: " + joined(writable, " "));
+  }
+}
+
+// Several views need a folder; an image-like name there would become a folder called x.png.
+void check_folder_name(const std::string& out, size_t view_count) {
+  const std::string views = count_of(view_count, "view", "views");
+  if (fs::exists(out)) {
+    throw UsageError("--out " + out + " is a file, but with " + views +
+                     " --out must be a folder (it receives NAME.png per view)");
+  }
+  if (fs::path(out).has_extension()) {
+    throw UsageError("--out " + out + ": with " + views + " --out must be a folder (it receives NAME.png per view), " +
+                     "not an image file; render one view to write one file (to name a folder with a dot, " +
+                     "end it with '/')");
+  }
+}
+
+// Where each view goes: the single file --out, or FOLDER/NAME.png.
+std::vector<std::string> output_paths(const std::string& out, const std::vector<NamedView>& views) {
+  if (out.empty()) throw UsageError("--out needs a value");
+  const bool names_folder = fs::is_directory(out) || out.back() == '/';
+  if (!names_folder && views.size() == 1) {
+    check_image_file_name(out);
+    return {out};
+  }
+  if (!names_folder) check_folder_name(out, views.size());
+  std::vector<std::string> paths;
+  for (const auto& view : views) paths.push_back((fs::path(out) / (view.spec.name + ".png")).string());
+  return paths;
+}
+
+// ---- input images ----
+
+// cv::imread says neither "missing" nor "not an image"; we tell them apart.
+cv::Mat read_camera_image(const Camera& camera, const std::string& path) {
+  const std::string who = "camera '" + camera.name + "': ";
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw std::runtime_error(who + "image file '" + path + "' does not exist");
+  if (fs::is_directory(path, ec)) throw std::runtime_error(who + "'" + path + "' is a folder, not an image");
+  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
+  if (img.empty()) throw std::runtime_error(who + "'" + path + "' is not a decodable image");
+  if (img.depth() != CV_8U) throw std::runtime_error(who + "image '" + path + "' is not 8-bit");
   if (img.channels() == 4) cv::cvtColor(img, img, cv::COLOR_BGRA2BGR);
-  if (img.channels() == 2) throw std::runtime_error("camera '" + camera + "': image '" + path + "' has 2 channels");
+  if (img.channels() == 2) throw std::runtime_error(who + "image '" + path + "' has 2 channels");
+  if (img.cols != camera.width || img.rows != camera.height) {
+    throw std::runtime_error(who + "image '" + path + "' is " + std::to_string(img.cols) + "x" +
+                             std::to_string(img.rows) + ", but the camera is calibrated for " +
+                             std::to_string(camera.width) + "x" + std::to_string(camera.height));
+  }
   return img;
 }
+
+size_t camera_index(const Rig& rig, const std::string& name, const std::string& item) {
+  for (size_t i = 0; i < rig.cameras().size(); ++i) {
+    if (rig.cameras()[i].name == name) return i;
+  }
+  std::vector<std::string> names;
+  for (const auto& c : rig.cameras()) names.push_back(c.name);
+  throw UsageError("--image " + item + ": the rig has no camera '" + name + "' (cameras: " + joined(names, " ") + ")");
+}
+
+// One image per camera index; empty where no --image names the camera.
+std::vector<cv::Mat> read_images(const Args& args, const Rig& rig) {
+  std::vector<cv::Mat> images(rig.cameras().size());
+  std::vector<std::string> paths(rig.cameras().size());
+  for (const auto& item : args.all("image")) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos) throw UsageError("--image needs CAM=PATH, got '" + item + "'");
+    const std::string name = item.substr(0, eq), path = item.substr(eq + 1);
+    const size_t index = camera_index(rig, name, item);
+    if (!paths[index].empty()) {
+      throw UsageError("--image " + name + " given twice ('" + paths[index] + "' and '" + path + "')");
+    }
+    paths[index] = path;
+    images[index] = read_camera_image(rig.cameras()[index], path);
+  }
+  return images;
+}
+
+int output_channels(const Args& args, const std::vector<cv::Mat>& images) {
+  if (args.has("grey")) return 1;
+  if (args.has("colour") || args.has("color")) return 3;
+  const bool any_colour = std::any_of(images.begin(), images.end(), [](const cv::Mat& m) { return m.channels() == 3; });
+  return any_colour ? 3 : 1;
+}
+
+// ---- rendering ----
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+struct PreparedView {
+  const NamedView* view;
+  FusionMap map;
+  double build_ms;
+};
+
+void check_needed_images(const NamedView& view, const FusionMap& map, const Rig& rig,
+                         const std::vector<cv::Mat>& images) {
+  std::vector<std::string> missing, flags;
+  for (size_t i = 0; i < images.size(); ++i) {
+    if (!map.camera_used[i] || !images[i].empty()) continue;
+    missing.push_back("'" + rig.cameras()[i].name + "'");
+    flags.push_back("--image " + rig.cameras()[i].name + "=PATH");
+  }
+  if (missing.empty()) return;
+  const bool one = missing.size() == 1;
+  throw UsageError("view '" + view.spec.name + "' needs " + (one ? "camera " : "cameras ") + joined(missing) +
+                   (one ? ", which has" : ", which have") + " no image: add " + joined(flags, " "));
+}
+
+// Everything that can fail is checked for every view before the first is written. All maps
+// are held at once for that: an offline render has a few views, not hundreds.
+std::vector<PreparedView> prepare_views(const std::vector<NamedView>& views, const LoadedRig& loaded,
+                                        const std::vector<cv::Mat>& images) {
+  for (const auto& view : views) check_view_frame(view, loaded);
+  std::vector<PreparedView> prepared;
+  for (const auto& view : views) {
+    const auto t0 = std::chrono::steady_clock::now();
+    FusionMap map = build_map(loaded.rig, *View::create(view.spec));
+    const double build_ms = ms_since(t0);
+    check_needed_images(view, map, loaded.rig, images);
+    prepared.push_back({&view, std::move(map), build_ms});
+  }
+  return prepared;
+}
+
+void render_and_write(const PreparedView& p, const std::vector<cv::Mat>& images, int channels,
+                      const std::string& path) {
+  cv::Mat result;
+  const auto t0 = std::chrono::steady_clock::now();
+  apply_map(p.map, images, result, channels);
+  const double apply_ms = ms_since(t0);
+  if (const fs::path folder = fs::path(path).parent_path(); !folder.empty()) fs::create_directories(folder);
+  if (!cv::imwrite(path, result)) throw std::runtime_error("cannot write '" + path + "'");
+  const ViewSpec& spec = p.view->spec;
+  std::cout << std::fixed << std::setprecision(1) << path << ": " << spec.name << " (" << to_string(spec.type) << " "
+            << spec.width << "x" << spec.height << "), coverage " << 100 * p.map.coverage() << " %, map "
+            << p.build_ms << " ms, apply " << apply_ms << " ms\n";
+}
+
 }  // namespace
 
 int render_command(const std::vector<std::string>& argv) {
-  const Args args(argv, {"help", "grey", "colour", "color", "list-models", "list-view-types"});
-  args.allow_only({"help", "grey", "colour", "color", "list-models", "list-view-types", "rig", "rig-frame",
-                   "rig-pose", "image", "view", "out"});
-  if (args.has("help")) {
+  // We report missing and unreadable files ourselves; OpenCV's WARN lines would only repeat them.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
+  const Args args = Args::parse(argv, kOptions);
+  if (args.help_requested()) {
     std::cout << kHelp;
     return 0;
   }
-  if (args.has("list-models")) {
-    list_models();
-    return 0;
-  }
-  if (args.has("list-view-types")) {
-    list_view_types();
-    return 0;
-  }
-  if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional()[0] + "'");
+  if (args.has("list-models")) list_models();
+  if (args.has("list-view-types")) list_view_types();
+  if (args.has("list-models") || args.has("list-view-types")) return 0;
+  check_option_combinations(args);
 
-  const Rig rig = load_rig(args.required("rig"), args.get("rig-frame", "base_link"),
-                           parse_rig_pose(args.get("rig-pose", "0 0 0 0 0 0")));
-  std::vector<ViewSpec> views;
-  if (args.all("view").empty()) throw UsageError("missing --view");
-  for (const auto& file : args.all("view")) {
-    for (auto& v : load_views(file)) views.push_back(std::move(v));
-  }
-  const std::string out = args.required("out");
-  const bool to_folder = views.size() > 1 || std::filesystem::is_directory(out) || out.back() == '/';
-
-  std::vector<cv::Mat> images(rig.cameras().size());
-  for (const auto& item : args.all("image")) {
-    const auto eq = item.find('=');
-    if (eq == std::string::npos) throw UsageError("--image needs CAM=PATH, got '" + item + "'");
-    const std::string name = item.substr(0, eq);
-    size_t index = 0;
-    while (index < rig.cameras().size() && rig.cameras()[index].name != name) ++index;
-    if (index == rig.cameras().size()) {
-      std::string known;
-      for (const auto& c : rig.cameras()) known += " " + c.name;
-      throw UsageError("--image " + item + ": the rig has no camera '" + name + "' (cameras:" + known + ")");
-    }
-    images[index] = read_image(name, item.substr(eq + 1));
-  }
-  bool any_colour = false;
-  for (const auto& img : images) any_colour = any_colour || img.channels() == 3;
-  const int channels = args.has("grey") ? 1 : (args.has("colour") || args.has("color") || any_colour) ? 3 : 1;
-
-  if (to_folder) std::filesystem::create_directories(out);
-  for (const auto& spec : views) {
-    const auto view = View::create(spec);
-    auto t0 = std::chrono::steady_clock::now();
-    const FusionMap map = build_map(rig, *view);
-    const double build_ms = ms_since(t0);
-    for (size_t i = 0; i < images.size(); ++i) {
-      if (map.camera_used[i] && images[i].empty()) {
-        throw UsageError("view '" + spec.name + "' needs camera '" + rig.cameras()[i].name + "': add --image " +
-                         rig.cameras()[i].name + "=PATH");
-      }
-    }
-    cv::Mat result;
-    t0 = std::chrono::steady_clock::now();
-    apply_map(map, images, result, channels);
-    const double apply_ms = ms_since(t0);
-    const std::string path = to_folder ? (std::filesystem::path(out) / (spec.name + ".png")).string() : out;
-    if (!cv::imwrite(path, result)) throw std::runtime_error("cannot write '" + path + "'");
-    std::cout << std::fixed << std::setprecision(1) << path << ": " << spec.name << " (" << to_string(spec.type) << " "
-              << spec.width << "x" << spec.height << "), coverage " << 100 * map.coverage() << " %, map "
-              << build_ms << " ms, apply " << apply_ms << " ms\n";
-  }
+  const LoadedRig loaded = load_rig_from_args(args);
+  const std::vector<NamedView> views = load_views_from_args(args);
+  const std::vector<std::string> paths = output_paths(args.get("out"), views);
+  const std::vector<cv::Mat> images = read_images(args, loaded.rig);
+  const std::vector<PreparedView> prepared = prepare_views(views, loaded, images);
+  const int channels = output_channels(args, images);
+  for (size_t i = 0; i < prepared.size(); ++i) render_and_write(prepared[i], images, channels, paths[i]);
   return 0;
 }
 

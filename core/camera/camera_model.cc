@@ -22,7 +22,7 @@ void expect_count(const std::vector<double>& v, size_t lo, size_t hi, const std:
     std::ostringstream os;
     os << what << ": " << field << " needs " << (lo == hi ? std::to_string(lo)
                                                           : std::to_string(lo) + " or " + std::to_string(hi))
-       << " values " << names << ", got " << v.size() << " " << join(v);
+       << (hi == 1 ? " value " : " values ") << names << ", got " << v.size() << " " << join(v);
     throw std::invalid_argument(os.str());
   }
   for (double x : v) {

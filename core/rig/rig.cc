@@ -49,6 +49,14 @@ const Camera* Rig::find(const std::string& name) const {
   return nullptr;
 }
 
+std::vector<std::string> Rig::known_frames() const {
+  std::vector<std::string> known{default_frame_};
+  for (const auto& frame : frames_.frames()) {
+    if (frame != default_frame_ && frames_.try_lookup(default_frame_, frame)) known.push_back(frame);
+  }
+  return known;
+}
+
 Pose Rig::camera_pose(const std::string& frame, size_t index) const {
   return frames_.lookup(frame, cameras_.at(index).name);
 }

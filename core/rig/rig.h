@@ -33,6 +33,10 @@ class Rig {
   const FrameGraph& frames() const { return frames_; }
   FrameGraph& frames() { return frames_; }
 
+  // The frames connected to default_frame() (itself first): those a camera or a view can
+  // be posed in.
+  std::vector<std::string> known_frames() const;
+
   // Pose of camera `index`'s optical frame in `frame` (T_frame_cam).
   Pose camera_pose(const std::string& frame, size_t index) const;
 
@@ -47,8 +51,13 @@ class Rig {
 // file, line and key.
 Rig load_rig_yaml(const std::string& path);
 
+// Our rig YAML is strict: unknown keys are errors, and every camera and frame must connect
+// to the rig's frame (an unknown `parent` is reported at load, listing the known frames).
+
 // A kalibr camchain.yaml (cam0, cam1, ... with T_cn_cnm1 chains). Cameras are named after
-// their keys (cam0, ...); cam0 sits at T_frame_cam0 in `frame`.
+// their keys (cam0, ...); cam0's optical frame sits at T_frame_cam0 in `frame`. Keys of a
+// camera entry that we do not use (rostopic, T_cam_imu, cam_overlaps, ... which kalibr
+// versions add and vary) are ignored.
 Rig load_kalibr_camchain(const std::string& path, const std::string& frame, const Pose& T_frame_cam0);
 
 // The same from already-parsed YAML (tests, fuzzing, configs that embed a rig); masks are
@@ -56,6 +65,9 @@ Rig load_kalibr_camchain(const std::string& path, const std::string& frame, cons
 class YamlReader;
 Rig parse_rig_yaml(const YamlReader& reader, const std::string& folder);
 Rig parse_kalibr_camchain(const YamlReader& reader, const std::string& frame, const Pose& T_frame_cam0);
+
+// Whether `reader` holds a kalibr camchain rather than our rig YAML (a top-level cam0).
+bool is_kalibr_camchain(const YamlReader& reader);
 
 // Either format, told apart by content (a camchain has top-level cam0).
 Rig load_rig(const std::string& path, const std::string& camchain_frame = "base_link",

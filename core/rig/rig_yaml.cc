@@ -53,6 +53,54 @@ void add_or_fail(const YamlReader& r, const YAML::Node& n, const std::string& pa
   }
 }
 
+// Missing and undecodable masks get different messages (cv::imread says neither).
+cv::Mat read_mask(const YamlReader& r, const YAML::Node& n, const std::string& path, const std::string& file) {
+  std::error_code ec;
+  const std::string what = "cannot read mask image '" + file + "': ";
+  if (!std::filesystem::exists(file, ec)) r.fail(n, path, what + "no such file");
+  if (std::filesystem::is_directory(file, ec)) r.fail(n, path, what + "it is a folder");
+  cv::Mat mask = cv::imread(file, cv::IMREAD_GRAYSCALE);
+  if (mask.empty()) r.fail(n, path, what + "not a decodable image");
+  return mask;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& name : names) out += (out.empty() ? "" : ", ") + name;
+  return out;
+}
+
+// The top of `frame`'s chain of parents.
+std::string root_of(const FrameGraph& frames, std::string frame) {
+  while (const auto parent = frames.parent_of(frame)) frame = *parent;
+  return frame;
+}
+
+// An entry (camera or frame) whose chain of parents never reaches the rig's frame would
+// only fail once a view is rendered; reported here, at its `parent` line, instead.
+void check_reaches_rig_frame(const YamlReader& r, const YAML::Node& entry, const std::string& path, const Rig& rig,
+                             const std::string& name) {
+  if (rig.frames().try_lookup(rig.default_frame(), name)) return;
+  const std::string parent = rig.frames().parent_of(name).value_or(rig.default_frame());
+  const std::string root = root_of(rig.frames(), name);
+  const std::string unknown = root == parent ? "'" + parent + "' is not a known frame"
+                                             : "'" + parent + "' hangs from '" + root + "', which is not a known frame";
+  r.fail(entry["parent"] ? entry["parent"] : entry, path + ".parent",
+         unknown + " (known frames: " + joined(rig.known_frames()) +
+             "); define it under 'frames:' with its pose in one of those, or fix the name");
+}
+
+// Camchain camera entries are read leniently (kalibr versions add keys we do not use), but a
+// key given twice is still an error: yaml-cpp would silently use the first copy.
+void expect_map_without_repeated_keys(const YamlReader& r, const YAML::Node& n, const std::string& path) {
+  if (!n.IsMap()) r.fail(n, path, "expected a map");
+  std::set<std::string> seen;
+  for (const auto& kv : n) {
+    const std::string key = kv.first.Scalar();
+    if (!seen.insert(key).second) r.fail(kv.first, path + "." + key, "key given twice");
+  }
+}
+
 }  // namespace
 
 Rig load_rig_yaml(const std::string& path) {
@@ -64,7 +112,8 @@ Rig parse_rig_yaml(const YamlReader& r, const std::string& folder_name) {
   if (!root.IsMap()) r.fail(root, "", "expected a rig: a map with 'cameras'");
   r.expect_keys(root, "", {"frame", "frames", "cameras"});
   Rig rig(root["frame"] ? r.text(root["frame"], "frame") : "base_link");
-  if (const auto frames = root["frames"]) {
+  const YAML::Node frames = root["frames"];
+  if (frames) {
     if (!frames.IsSequence()) r.fail(frames, "frames", "expected a list of {name, parent, T_parent_frame}");
     for (size_t i = 0; i < frames.size(); ++i) {
       const std::string p = "frames[" + std::to_string(i) + "]";
@@ -104,8 +153,7 @@ Rig parse_rig_yaml(const YamlReader& r, const std::string& folder_name) {
     if (n["fov_deg"]) cam.fov_deg = r.number(n["fov_deg"], p + ".fov_deg");
     if (n["mask"]) {
       const auto mask_path = (folder / r.text(n["mask"], p + ".mask")).string();
-      cam.mask = cv::imread(mask_path, cv::IMREAD_GRAYSCALE);
-      if (cam.mask.empty()) r.fail(n["mask"], p + ".mask", "cannot read mask image '" + mask_path + "'");
+      cam.mask = read_mask(r, n["mask"], p + ".mask", mask_path);
       // Checked here too (Rig::add_camera would) so the message points at the mask's line.
       if (cam.mask.cols != cam.width || cam.mask.rows != cam.height) {
         r.fail(n["mask"], p + ".mask",
@@ -114,6 +162,14 @@ Rig parse_rig_yaml(const YamlReader& r, const std::string& folder_name) {
       }
     }
     add_or_fail(r, n, p, rig, std::move(cam));
+  }
+  // Frames first: a camera under an unconnected frame is reported at that frame.
+  for (size_t i = 0; frames && i < frames.size(); ++i) {
+    check_reaches_rig_frame(r, frames[i], "frames[" + std::to_string(i) + "]", rig, frames[i]["name"].Scalar());
+  }
+  for (size_t i = 0; i < cams.size(); ++i) {
+    const std::string& name = rig.cameras()[i].name;
+    check_reaches_rig_frame(r, cams[i], "cameras[" + std::to_string(i) + "] (" + name + ")", rig, name);
   }
   return rig;
 }
@@ -159,8 +215,7 @@ Rig parse_kalibr_camchain(const YamlReader& r, const std::string& frame, const P
     const std::string key = "cam" + std::to_string(count);
     const YAML::Node n = root[key];
     if (!n) break;
-    r.expect_keys(n, key, {"camera_model", "intrinsics", "distortion_model", "distortion_coeffs", "resolution",
-                           "T_cn_cnm1", "T_cam_imu", "rostopic", "cam_overlaps", "timeshift_cam_imu"});
+    expect_map_without_repeated_keys(r, n, key);
     Camera cam;
     cam.name = key;
     read_model(r, n, key, cam);
@@ -178,9 +233,11 @@ Rig parse_kalibr_camchain(const YamlReader& r, const std::string& frame, const P
   return rig;
 }
 
+bool is_kalibr_camchain(const YamlReader& reader) { return reader.root().IsMap() && reader.root()["cam0"]; }
+
 Rig load_rig(const std::string& path, const std::string& camchain_frame, const Pose& camchain_T_frame_cam0) {
   const YamlReader r = YamlReader::from_file(path);
-  if (r.root().IsMap() && r.root()["cam0"]) return parse_kalibr_camchain(r, camchain_frame, camchain_T_frame_cam0);
+  if (is_kalibr_camchain(r)) return parse_kalibr_camchain(r, camchain_frame, camchain_T_frame_cam0);
   return parse_rig_yaml(r, std::filesystem::path(path).parent_path().string());
 }
 

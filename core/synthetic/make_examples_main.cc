@@ -2,10 +2,12 @@
 // config/examples/dual_fisheye/rig.yaml see in the synthetic room (Scene::room). Run it
 // when the rig or the room changes:  omniview_make_examples [FOLDER holding rig.yaml]
 // (default: the source tree's config/examples/dual_fisheye).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
@@ -33,11 +35,24 @@ void write_jpeg(const cv::Mat& image, const std::filesystem::path& path) {
   std::cout << "wrote " << path.string() << " (" << bytes.size() / 1024 << " KiB)\n";
 }
 
+constexpr const char* kUsage = R"(usage: omniview_make_examples [FOLDER]
+
+Renders what each camera of FOLDER/rig.yaml sees in the synthetic room and writes
+FOLDER/CAMERA.jpg per camera. FOLDER defaults to the source tree's
+config/examples/dual_fisheye (the bundled example images).
+)";
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 2) {
-    std::cerr << "usage: omniview_make_examples [FOLDER holding rig.yaml]\n";
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  const auto is_help = [](const std::string& a) { return a == "--help" || a == "-h"; };
+  if (std::any_of(args.begin(), args.end(), is_help)) {
+    std::cout << kUsage;
+    return 0;
+  }
+  if (args.size() > 1 || (!args.empty() && args[0].rfind("-", 0) == 0)) {  // a mistyped option is no folder
+    std::cerr << kUsage;
     return 2;
   }
   try {

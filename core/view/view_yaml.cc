@@ -1,6 +1,49 @@
 #include "core/view/view_yaml.h"
 
+#include <algorithm>
+
 namespace omniview {
+namespace {
+
+// validate() names the field it rejects ("view 'v': fov_deg must be ..."). Returns the YAML
+// key that field comes from when `n` gives it, so the error can point at that key's line;
+// empty when the message names no such key.
+std::string key_rejected_by_validate(const std::string& message, const ViewSpec& s, const YAML::Node& n) {
+  const std::string prefix = "view '" + s.name + "': ";
+  if (message.rfind(prefix, 0) != 0) return "";
+  const size_t end = message.find(' ', prefix.size());
+  const std::string label = message.substr(prefix.size(), end - prefix.size());
+  // "lat_min_deg/lat_max_deg" names a pair; a bird's-eye view's height_m is labelled
+  // "height", checked after the pixel height (so that one is fine when height_m is not).
+  std::vector<std::string> keys;
+  for (size_t from = 0, slash; from <= label.size(); from = slash + 1) {
+    slash = std::min(label.find('/', from), label.size());
+    keys.push_back(label.substr(from, slash - from));
+  }
+  if (label == "height" && s.type == ViewType::kBirdseye && s.height >= 1 && s.height <= kMaxViewSide) {
+    keys = {"height_m"};
+  }
+  for (const auto& k : keys) {
+    if (n.IsMap() && n[k]) return k;
+  }
+  return "";
+}
+
+// Views are told apart by name (the CLI writes NAME.png, the daemon addresses them by it).
+void reject_repeated_names(const YamlReader& r, const YAML::Node& list, const std::vector<ViewSpec>& views) {
+  for (size_t i = 0; i < views.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      if (views[i].name != views[j].name) continue;
+      const std::string at = "views[" + std::to_string(i) + "]";
+      const std::string unnamed = list[i]["name"] ? "" : " (a view without 'name' is called 'view')";
+      r.fail(list[i]["name"] ? list[i]["name"] : list[i], at + ".name",
+             "view name '" + views[i].name + "' is already used by views[" + std::to_string(j) + "] on line " +
+                 std::to_string(list[j].Mark().line + 1) + unnamed + "; names must be unique");
+    }
+  }
+}
+
+}  // namespace
 
 ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string& path) {
   r.expect_keys(n, path, {"name", "type", "width", "height", "frame", "pose", "hfov_deg", "distance", "height_m",
@@ -49,6 +92,8 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
   try {
     validate(s);
   } catch (const std::invalid_argument& e) {
+    const std::string rejected = key_rejected_by_validate(e.what(), s, n);
+    if (!rejected.empty()) r.fail(n[rejected], key(rejected.c_str()), e.what());
     r.fail(n, path, e.what());
   }
   return s;
@@ -65,13 +110,9 @@ std::vector<ViewSpec> parse_views(const YamlReader& r) {
     const YAML::Node list = root["views"];
     if (!list.IsSequence() || list.size() == 0) r.fail(list, "views", "expected a non-empty list of views");
     for (size_t i = 0; i < list.size(); ++i) views.push_back(parse_view(r, list[i], "views[" + std::to_string(i) + "]"));
+    reject_repeated_names(r, list, views);
   } else {
     views.push_back(parse_view(r, root, ""));
-  }
-  for (size_t i = 0; i < views.size(); ++i) {
-    for (size_t j = 0; j < i; ++j) {
-      if (views[i].name == views[j].name) r.fail(root, "", "two views are named '" + views[i].name + "'");
-    }
   }
   return views;
 }

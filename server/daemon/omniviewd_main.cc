@@ -7,6 +7,7 @@
 
 #include <pthread.h>
 
+#include "core/map/worker_threads.h"
 #include "server/config/daemon_config.h"
 #include "server/daemon/daemon.h"
 #include "server/source/source_registry.h"
@@ -28,6 +29,8 @@ void print_help() {
                "\n"
                "Source types:\n";
   for (const auto& [type, help] : omniview::source_types()) std::cout << "  " << type << ": " << help << "\n";
+  std::cout << "\nEnvironment: OMNIVIEW_THREADS=N caps the threads that build and apply maps (default: all\n"
+               "cores; 1: everything on the render and request threads).\n";
   std::cout << "\nStop with SIGTERM or Ctrl-C: streams end with status UNAVAILABLE, nothing hangs.\n";
 }
 
@@ -77,6 +80,7 @@ int main(int argc, char** argv) {
   std::signal(SIGPIPE, SIG_IGN);
 
   try {
+    omniview::apply_worker_threads_from_env();
     omniview::DaemonConfig config = omniview::load_daemon_config(config_file);
     if (!listen.empty()) config.listen = listen;
     if (check_only) {

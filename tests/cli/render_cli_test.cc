@@ -1,6 +1,7 @@
 // The real `omniview render` binary, run as a user would: good renders and clear errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -18,8 +19,8 @@ struct Result {
   std::string output;  // stdout and stderr
 };
 
-Result run(const std::string& args) {
-  const std::string cmd = std::string(OMNIVIEW_CLI) + " " + args + " 2>&1";
+Result run_program(const std::string& program, const std::string& args) {
+  const std::string cmd = program + " " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return {-1, "popen failed"};
   std::string out;
@@ -28,6 +29,8 @@ Result run(const std::string& args) {
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
+
+Result run(const std::string& args) { return run_program(OMNIVIEW_CLI, args); }
 
 class RenderCli : public ::testing::Test {
  protected:
@@ -108,11 +111,12 @@ TEST_F(RenderCli, ListsModelsAndViewTypes) {
   EXPECT_EQ(run("--help").exit_code, 0);
 }
 
-TEST_F(RenderCli, WrongImageSizeNamesTheCamera) {
+TEST_F(RenderCli, WrongImageSizeNamesTheCameraTheFileAndBothSizes) {
   const auto r = run("render --rig " + path("rig.yaml") + " --image front=" + path("small.png") + " --view " +
                      path("view.yaml") + " --out " + path("x.png"));
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.output.find("camera 'front'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(path("small.png")), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("80x60"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("160x120"), std::string::npos) << r.output;
 }
@@ -153,12 +157,21 @@ TEST_F(RenderCli, BadViewFilesNameFileLineAndKey) {
   EXPECT_NE(r.output.find("width must be between 1 and 16384"), std::string::npos) << r.output;
 }
 
-TEST_F(RenderCli, CorruptImageIsAClearError) {
+TEST_F(RenderCli, MissingAndCorruptImagesAreDifferentClearErrors) {
   write("corrupt.jpg", "\xff\xd8\xff\xe0 definitely not a jpeg");
-  const auto r = run("render --rig " + path("rig.yaml") + " --image front=" + path("corrupt.jpg") + " --view " +
-                     path("view.yaml") + " --out " + path("x.png"));
+  auto r = run("render --rig " + path("rig.yaml") + " --image front=" + path("corrupt.jpg") + " --view " +
+               path("view.yaml") + " --out " + path("x.png"));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.output.find("cannot read image"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("camera 'front': '" + path("corrupt.jpg") + "' is not a decodable image"), std::string::npos)
+      << r.output;
+  r = run("render --rig " + path("rig.yaml") + " --image front=" + path("absent.png") + " --view " + path("view.yaml") +
+          " --out " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("camera 'front': image file '" + path("absent.png") + "' does not exist"), std::string::npos)
+      << r.output;
+  // Only our message: no OpenCV log lines.
+  EXPECT_EQ(r.output.find("WARN"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
 }
 
 TEST_F(RenderCli, KalibrCamchainWithRigPose) {
@@ -170,10 +183,176 @@ TEST_F(RenderCli, KalibrCamchainWithRigPose) {
   resolution: [160, 120]
 )");
   // cam0's optical frame looking along base_link's +x: yaw -90, roll -90 turns optical z to x.
-  const auto r = run("render --rig " + path("camchain.yaml") + " --rig-pose \"0 0 1 -90 0 -90\" --image cam0=" +
-                     path("front.png") + " --view " + path("view.yaml") + " --out " + path("c.png"));
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(cv::imread(path("c.png")).at<cv::Vec3b>(16, 32), cv::Vec3b(10, 200, 30));
+  // The same rotation as a quaternion qx qy qz qw; both are the help's example.
+  for (const char* pose : {"0 0 1 -90 0 -90", "0 0 1 -0.5 0.5 -0.5 0.5"}) {
+    fs::remove(dir_ / "c.png");
+    const auto r = run("render --rig " + path("camchain.yaml") + " --rig-pose \"" + pose + "\" --image cam0=" +
+                       path("front.png") + " --view " + path("view.yaml") + " --out " + path("c.png"));
+    ASSERT_EQ(r.exit_code, 0) << pose << "\n" << r.output;
+    EXPECT_EQ(cv::imread(path("c.png")).at<cv::Vec3b>(16, 32), cv::Vec3b(10, 200, 30)) << pose;
+    EXPECT_NE(r.output.find("coverage 100.0 %"), std::string::npos) << pose << "\n" << r.output;
+  }
+  const std::string help = run("render --help").output;
+  EXPECT_NE(help.find("cam0's optical frame (z along the optical"), std::string::npos) << help;
+  EXPECT_NE(help.find("--rig-pose \"0 0 1 -90 0 -90\""), std::string::npos) << help;
+}
+
+TEST_F(RenderCli, RigPoseTakesSixOrSevenNumbers) {
+  write("camchain.yaml", "cam0:\n  camera_model: pinhole\n  intrinsics: [100, 100, 79.5, 59.5]\n"
+                         "  resolution: [160, 120]\n");
+  const auto with_pose = [&](const std::string& pose) {
+    return run("render --rig " + path("camchain.yaml") + " --rig-pose \"" + pose + "\" --image cam0=" +
+               path("front.png") + " --view " + path("view.yaml") + " --out " + path("c.png"));
+  };
+  for (const char* wrong : {"0 0 1 -90 0", "0 0 1 -90 0 -90 5 6"}) {
+    const auto r = with_pose(wrong);
+    EXPECT_EQ(r.exit_code, 2) << wrong;
+    EXPECT_NE(r.output.find("6 numbers \"x y z yaw pitch roll\""), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("7 numbers \"x y z qx qy qz qw\""), std::string::npos) << r.output;
+  }
+  EXPECT_NE(with_pose("1").output.find("got 1 number:"), std::string::npos);
+  // 7 numbers are a quaternion, not yaw pitch roll with one to spare.
+  EXPECT_NE(with_pose("0 0 1 -90 0 -90 0").output.find("must have unit length"), std::string::npos);
+  EXPECT_NE(with_pose("0 0 one 0 0 0").output.find("'one' is not a number"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "c.png"));
+}
+
+TEST_F(RenderCli, RigFrameAndPoseApplyOnlyToCamchains) {
+  for (const std::string option : {"--rig-pose \"0 0 1 0 0 0\"", "--rig-frame body"}) {
+    const auto r = run(base_args() + " " + option + " --view " + path("view.yaml") + " --out " + path("x.png"));
+    EXPECT_EQ(r.exit_code, 2) << option;
+    EXPECT_NE(r.output.find("applies only to kalibr camchains"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+  }
+}
+
+TEST_F(RenderCli, ViewFramesUnknownToACamchainHintAtRigFrame) {
+  write("camchain.yaml", "cam0:\n  camera_model: pinhole\n  intrinsics: [100, 100, 79.5, 59.5]\n"
+                         "  resolution: [160, 120]\n  rostopic: /cam0/image_raw\n  timeshift_cam_imu: 0.001\n");
+  write("body.yaml", "name: v\ntype: perspective\nframe: body\n");
+  const auto r = run("render --rig " + path("camchain.yaml") + " --image cam0=" + path("front.png") + " --view " +
+                     path("body.yaml") + " --out " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("frame 'body' is not a frame of the rig (known frames: base_link, cam0)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("give --rig-frame body"), std::string::npos) << r.output;
+  // With it, the same view renders.
+  EXPECT_EQ(run("render --rig " + path("camchain.yaml") + " --rig-frame body --image cam0=" + path("front.png") +
+                " --view " + path("body.yaml") + " --out " + path("x.png"))
+                .exit_code,
+            0);
+}
+
+TEST_F(RenderCli, UnknownCameraParentIsReportedAtRigLoad) {
+  write("bad_rig.yaml", "cameras:\n  - name: front\n    camera_model: pinhole\n    intrinsics: [100, 100, 79.5, 59.5]\n"
+                        "    resolution: [160, 120]\n    parent: mast\n    mount: {}\n");
+  const auto r = run("render --rig " + path("bad_rig.yaml") + " --image front=" + path("front.png") + " --view " +
+                     path("view.yaml") + " --out " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("bad_rig.yaml:6: cameras[0] (front).parent: 'mast' is not a known frame (known frames: "
+                          "base_link)"),
+            std::string::npos)
+      << r.output;
+}
+
+TEST_F(RenderCli, SeveralViewsNeedAFolder) {
+  write("views.yaml", "views:\n  - {name: a, type: perspective, width: 32, height: 16}\n"
+                      "  - {name: b, type: perspective, width: 32, height: 16}\n");
+  const auto r = run(base_args() + " --view " + path("views.yaml") + " --out " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("with 2 views --out must be a folder"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+  // A folder name with a dot is fine written with a trailing slash, and so is a lone view into a folder.
+  ASSERT_EQ(run(base_args() + " --view " + path("views.yaml") + " --out " + path("renders.v2/")).exit_code, 0);
+  EXPECT_TRUE(fs::exists(dir_ / "renders.v2" / "b.png"));
+  ASSERT_EQ(run(base_args() + " --view " + path("view.yaml") + " --out " + path("one/")).exit_code, 0);
+  EXPECT_TRUE(fs::exists(dir_ / "one" / "front.png"));
+}
+
+TEST_F(RenderCli, OutputFormatIsCheckedBeforeRendering) {
+  auto r = run(base_args() + " --view " + path("view.yaml") + " --out " + path("x.gif"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("cannot write .gif images; supported: .png .jpg"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("coverage"), std::string::npos) << "checked before rendering:\n" << r.output;
+  r = run(base_args() + " --view " + path("view.yaml") + " --out " + path("noext"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("give the output image a file extension"), std::string::npos) << r.output;
+  // Upper case is the same format.
+  EXPECT_EQ(run(base_args() + " --view " + path("view.yaml") + " --out " + path("x.JPG")).exit_code, 0);
+}
+
+TEST_F(RenderCli, RepeatedViewNamesNameBothSources) {
+  write("other.yaml", "name: front\ntype: fisheye\nwidth: 32\nheight: 32\n");
+  const auto r = run(base_args() + " --view " + path("view.yaml") + " --view " + path("other.yaml") + " --out " +
+                     path("out/"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("view name 'front' is used twice: in " + path("view.yaml") + " and in " + path("other.yaml")),
+            std::string::npos)
+      << r.output;
+  write("two.yaml", "views:\n  - {name: front, type: perspective}\n  - {name: front, type: fisheye}\n");
+  EXPECT_NE(run(base_args() + " --view " + path("two.yaml") + " --out " + path("out/"))
+                .output.find("two.yaml:3: views[1].name: view name 'front' is already used by views[0] on line 2"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
+TEST_F(RenderCli, AllViewsAreCheckedBeforeAnyIsWritten) {
+  // The third view looks left, and no --image gives the left camera; the frame of the
+  // fourth is unknown. Neither may leave the first two written.
+  write("views.yaml", "views:\n  - {name: a, type: perspective, width: 32, height: 16, hfov_deg: 30}\n"
+                      "  - {name: b, type: perspective, width: 32, height: 16, hfov_deg: 30}\n"
+                      "  - {name: c, type: perspective, width: 32, height: 16, hfov_deg: 30, pose: {ypr_deg: [90, 0, 0]}}\n");
+  auto r = run("render --rig " + path("rig.yaml") + " --image front=" + path("front.png") + " --view " +
+               path("views.yaml") + " --out " + path("out"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("view 'c' needs camera 'left', which has no image: add --image left=PATH"), std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "a.png"));
+  write("frame.yaml", "views:\n  - {name: a, type: perspective}\n  - {name: b, type: perspective, frame: nowhere}\n");
+  r = run(base_args() + " --view " + path("frame.yaml") + " --out " + path("out"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("view 'b' (" + path("frame.yaml") + " views[1]): frame 'nowhere' is not a frame of the rig"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "a.png"));
+}
+
+TEST_F(RenderCli, ArgumentErrorsAndHelp) {
+  auto r = run("render --frobnicate");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("unknown option --frobnicate"), std::string::npos) << r.output;
+  // --help and -h win wherever they appear, even after a mistake or where a value belongs.
+  for (const char* args : {"render --frobnicate --help", "render --rig -h", "render --rig a --rig b --help"}) {
+    r = run(args);
+    EXPECT_EQ(r.exit_code, 0) << args;
+    EXPECT_NE(r.output.find("usage: omniview render"), std::string::npos) << args << "\n" << r.output;
+  }
+  r = run(base_args() + " --rig " + path("rig.yaml") + " --view " + path("view.yaml") + " --out " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--rig given twice"), std::string::npos) << r.output;
+  r = run(base_args() + " --grey --colour --view " + path("view.yaml") + " --out " + path("x.png"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--grey and --colour contradict each other"), std::string::npos) << r.output;
+  r = run(base_args() + " --image front=" + path("front.png") + " --view " + path("view.yaml") + " --out " +
+          path("x.png"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("--image front given twice"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
+TEST_F(RenderCli, Version) {
+  const auto r = run("--version");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.output, std::string("omniview ") + OMNIVIEW_VERSION + "\n");
+}
+
+TEST_F(RenderCli, MakeExamplesHelp) {
+  for (const char* flag : {"--help", "-h"}) {
+    const auto r = run_program(OMNIVIEW_MAKE_EXAMPLES, flag);
+    EXPECT_EQ(r.exit_code, 0) << flag;
+    EXPECT_NE(r.output.find("usage: omniview_make_examples"), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(run_program(OMNIVIEW_MAKE_EXAMPLES, "--frobnicate").exit_code, 2);
 }
 
 }  // namespace

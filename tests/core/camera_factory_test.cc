@@ -109,7 +109,7 @@ TEST(CameraFactory, WrongParameterCountsNameTheField) {
   expect_rejected({"pinhole", "radtan", {1, 1, 0, 0}, {0, 0, 0}}, {"distortion_coeffs needs 4 or 5 values", "got 3"});
   expect_rejected({"pinhole", "radtan", {1, 1, 0, 0}, {0, 0, 0, 0, 0, 0}}, {"distortion_coeffs needs 4 or 5 values"});
   expect_rejected({"pinhole", "equidistant", {1, 1, 0, 0}, {0, 0, 0, 0, 0}}, {"distortion_coeffs needs 4 values"});
-  expect_rejected({"pinhole", "fov", {1, 1, 0, 0}, {}}, {"distortion_coeffs needs 1 values"});
+  expect_rejected({"pinhole", "fov", {1, 1, 0, 0}, {}}, {"distortion_coeffs needs 1 value ["});
   expect_rejected({"omni", "none", {0.9, 1, 1, 0}, {}}, {"intrinsics needs 5 values"});
   expect_rejected({"ds", "none", {0.9, 0.5, 1, 1, 0}, {}}, {"intrinsics needs 6 values"});
   expect_rejected({"eucm", "none", {0.5, 1, 1, 1, 0, 0, 0}, {}}, {"intrinsics needs 6 values", "got 7"});

@@ -217,6 +217,32 @@ TEST_F(RigYaml, FramesMayReferToLaterFramesAndCamerasToFramesButNotCycles) {
                {"cycle.yaml:3: frames[1]", "cycle"});
 }
 
+TEST_F(RigYaml, UnknownParentFramesAreReportedAtLoadWithTheKnownFrames) {
+  // Not only once a view is rendered: at the parent's line, listing what is known.
+  expect_error("parent.yaml",
+               "frames:\n  - {name: mast, parent: base_link, T_parent_frame: {}}\ncameras:\n" + camera("a") +
+                   camera("b", "    parent: mats\n"),
+               {"parent.yaml:14: cameras[1] (b).parent: 'mats' is not a known frame",
+                "known frames: base_link, a, mast", "define it under 'frames:'"});
+  // A frame hanging from an unknown one is reported at that frame, naming the unknown root.
+  expect_error("chain.yaml",
+               "frames:\n  - {name: head, parent: mast, T_parent_frame: {}}\n"
+               "  - {name: mast, parent: tower, T_parent_frame: {}}\ncameras:\n" +
+                   camera("a", "    parent: head\n"),
+               {"chain.yaml:2: frames[0].parent: 'mast' hangs from 'tower', which is not a known frame",
+                "known frames: base_link"});
+  // The rig's own frame counts even when no camera names it as parent explicitly.
+  expect_error("frame.yaml", "frame: body\ncameras:\n" + camera("a", "    parent: base_link\n"),
+               {"frame.yaml:8: cameras[0] (a).parent: 'base_link' is not a known frame", "known frames: body"});
+}
+
+TEST_F(RigYaml, MissingAndUndecodableMasksDiffer) {
+  expect_error("nomask.yaml", "cameras:\n" + camera("a", "    mask: none.png\n"), {"none.png': no such file"});
+  dir_.write("text.png", "not a png");
+  expect_error("garbage.yaml", "cameras:\n" + camera("a", "    mask: text.png\n"),
+               {"text.png': not a decodable image"});
+}
+
 TEST_F(RigYaml, SyntaxErrorsAndMissingFiles) {
   expect_error("syntax.yaml", "cameras: [\n  - name: a\n", {"syntax.yaml:", "YAML syntax error"});
   expect_error("tabs.yaml", "cameras:\n  - name: a\n     camera_model: x\n", {"tabs.yaml:3", "YAML syntax error"});

@@ -15,7 +15,14 @@
 
 extern char** environ;
 
+#include "core/map/worker_threads.h"
+
 namespace omniview::testing {
+
+// The test processes honour OMNIVIEW_THREADS as the daemon does (the ThreadSanitizer run
+// sets it to 1: TSan cannot see OpenCV's TBB pool hand our lambdas to its workers).
+const bool kWorkerThreadsApplied = (apply_worker_threads_from_env(), true);
+
 
 namespace fs = std::filesystem;
 

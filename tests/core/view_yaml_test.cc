@@ -1,0 +1,45 @@
+// View YAML: errors point at the key that is wrong (file:line: key:), for type-level
+// checks and for the range checks of validate(), and view names are unique in a file.
+#include <gtest/gtest.h>
+
+#include "core/io/yaml_reader.h"
+#include "core/view/view_yaml.h"
+#include "test_support.h"
+
+namespace omniview {
+namespace {
+
+using testing::expect_throw_containing;
+
+void expect_error(const std::string& name, const std::string& text, std::initializer_list<std::string> needles) {
+  expect_throw_containing<ConfigError>([&] { parse_views(YamlReader::from_string(text, name)); }, needles, name);
+}
+
+TEST(ViewYaml, RangeErrorsNameTheLineOfTheKey) {
+  expect_error("fov.yaml", "name: v\ntype: fisheye\nwidth: 64\nfov_deg: 0\nheight: 32\n",
+               {"fov.yaml:4: fov_deg: view 'v': fov_deg must be in (0, 360], got 0"});
+  expect_error("hfov.yaml", "type: perspective\nhfov_deg: 180\n", {"hfov.yaml:2: hfov_deg:"});
+  expect_error("width.yaml", "type: perspective\nheight: 8\nwidth: 0\n", {"width.yaml:3: width:", "between 1"});
+  // A bird's-eye view's height_m, though validate() calls it "height".
+  expect_error("birdseye.yaml", "type: birdseye\nheight: 100\nheight_m: -1\n", {"birdseye.yaml:3: height_m:"});
+  expect_error("pixels.yaml", "type: birdseye\nheight: 0\nheight_m: 3\n", {"pixels.yaml:2: height:"});
+  // A pair names the first of its keys that is given.
+  expect_error("lat.yaml", "type: mercator\nlat_max_deg: 90\n", {"lat.yaml:2: lat_max_deg:"});
+  expect_error("feather.yaml", "type: perspective\nfusion: blend\nfeather_px: 0\n", {"feather.yaml:3: feather_px:"});
+  expect_error("list.yaml", "views:\n  - {name: a, type: perspective}\n  - name: b\n    type: cylindrical\n"
+               "    vfov_deg: 200\n",
+               {"list.yaml:5: views[1].vfov_deg: view 'b': vfov_deg"});
+}
+
+TEST(ViewYaml, RepeatedNamesNameBothViews) {
+  expect_error("dup.yaml",
+               "views:\n  - {name: a, type: perspective}\n  - {name: b, type: perspective}\n"
+               "  - {name: a, type: fisheye}\n",
+               {"dup.yaml:4: views[2].name: view name 'a' is already used by views[0] on line 2"});
+  expect_error("unnamed.yaml", "views:\n  - {type: perspective}\n  - {type: fisheye}\n",
+               {"unnamed.yaml:3: views[1].name: view name 'view' is already used by views[0] on line 2",
+                "a view without 'name' is called 'view'"});
+}
+
+}  // namespace
+}  // namespace omniview
