@@ -59,11 +59,24 @@ TEST(Streaming, SixteenClientsOneStalledOthersKeepTheirRateAndMemoryStaysBounded
   std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // connections up, stalled buffers full
   rss_early = daemon.rss_kb();
   go = true;
+  // What the daemon saw mid-way, to explain a failure below.
+  std::this_thread::sleep_for(std::chrono::duration<double>(kSeconds / 2));
+  std::string clients_midway;
+  {
+    v1::Status mid;
+    if (make_stub(daemon.address())->GetStatus(make_context().get(), {}, &mid).ok()) {
+      for (const auto& c : mid.clients()) {
+        clients_midway += "\n  " + c.peer() + " " + c.encoding() + " sent " + std::to_string(c.frames_sent()) +
+                          " dropped " + std::to_string(c.frames_dropped());
+      }
+    }
+  }
   for (auto& t : readers) t.join();
   const long rss_late = daemon.rss_kb();
 
   for (int i = 0; i < kReaders; ++i) {
-    EXPECT_GE(received[i], 0.7 * kSourceHz * kSeconds) << "client " << i << " " << ended[i];
+    EXPECT_GE(received[i], 0.7 * kSourceHz * kSeconds)
+        << "client " << i << " " << ended[i] << "\nclients mid-way:" << clients_midway << "\n" << daemon.log();
   }
   // The stalled client can pin one frame in its slot and what gRPC buffers for it; nothing
   // may grow with time.

@@ -315,7 +315,7 @@ TEST_F(ViewsApi, StatusReportsSourcesViewsAndClients) {
   for (const auto& v : st.views()) {
     if (v.name() == "front") {
       EXPECT_EQ(v.subscribers(), 1u);
-      EXPECT_GE(v.frames(), 10u);
+      EXPECT_GE(v.frames(), 9u);  // the 10th may be counted just after it was sent
       EXPECT_EQ(v.map_rebuilds(), 1u);
     } else {
       EXPECT_EQ(v.subscribers(), 0u);
