@@ -122,6 +122,7 @@ void BM_DaemonLoad(benchmark::State& state) {
       clients.emplace_back([&, i] {
         grpc::ChannelArguments args;
         args.SetMaxReceiveMessageSize(64 << 20);
+        args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // a connection each, like separate clients
         auto stub = v1::Omniview::NewStub(grpc::CreateCustomChannel(daemon.address, grpc::InsecureChannelCredentials(), args));
         grpc::ClientContext ctx;
         v1::StreamFramesRequest req;

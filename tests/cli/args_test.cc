@@ -32,7 +32,7 @@ TEST(Args, ReadsValuesSwitchesAndRepeats) {
 
 TEST(Args, ValuesMayStartWithAMinus) {
   // Negative numbers are values, not options.
-  const OptionSpec spec{.single = {"rig-pose"}};
+  const OptionSpec spec{.switches = {}, .single = {"rig-pose"}, .repeatable = {}};
   EXPECT_EQ(Args::parse({"--rig-pose", "-1 0 0 0 0 0"}, spec).get("rig-pose"), "-1 0 0 0 0 0");
   EXPECT_EQ(Args::parse({"--rig-pose", "-.5"}, spec).get("rig-pose"), "-.5");
 }
