@@ -27,6 +27,7 @@ struct ViewState {
   std::shared_ptr<const Rig> rig;  // the rig `map` was built for (a new rig object: rebuild)
   std::shared_ptr<const FusionMap> map;
   double build_ms = 0;
+  double coverage = 0;  // of `map`: computed once, sent with every frame
   Pose T_robot_view = Pose::Identity();  // the view frame in the rig's default frame
   std::shared_ptr<const v1::View> description;  // as sent with every frame
 };

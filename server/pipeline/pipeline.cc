@@ -147,6 +147,7 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
     throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
   }
   state->build_ms = ms_since(t0);
+  state->coverage = state->map->coverage();
 
   auto d = std::make_shared<v1::View>();
   *d->mutable_spec() = to_proto(spec);
@@ -407,7 +408,7 @@ void Pipeline::render_view(LiveView& view, const FrameSet& frames) {
     frame->set_sequence(frames.sequence);
     *frame->mutable_capture_time() = to_timestamp(frames.capture_time);
     *frame->mutable_camera() = *state->description;
-    frame->set_coverage(map.coverage());
+    frame->set_coverage(state->coverage);
     try {
       encode_frame(image, key, *frame);
     } catch (const std::exception& e) {
@@ -500,7 +501,7 @@ v1::Status Pipeline::status() const {
     s->set_frames(stats.frames);
     s->set_map_rebuilds(stats.map_rebuilds);
     s->set_last_map_build_ms(stats.last_map_build_ms);
-    s->set_coverage(state->map->coverage());
+    s->set_coverage(state->coverage);
     s->set_last_latency_ms(stats.last_latency_ms);
     for (const auto& sub : subscribers) {
       auto* c = st.add_clients();

@@ -1,15 +1,28 @@
 #include "server/sources/delivery_thread.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <stdexcept>
 
 namespace omniview {
+
+namespace {
+constexpr int kBackgroundNice = 10;
+}  // namespace
 
 void DeliveryThread::start(std::function<void()> body) {
   std::lock_guard lock(mutex_);
   if (started_) throw std::logic_error("source started twice");
   started_ = true;
   stopping_ = false;
-  thread_ = std::thread(std::move(body));
+  thread_ = std::thread([body = std::move(body)] {
+    // Reading and decoding files ahead of their time is background work: let the render
+    // threads (frames clients are waiting for) have the cores first. Linux applies nice
+    // per thread; lowering it needs no privilege. Best effort: ignore failure.
+    setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kBackgroundNice);
+    body();
+  });
 }
 
 void DeliveryThread::stop() {
