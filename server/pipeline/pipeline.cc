@@ -363,7 +363,16 @@ void Pipeline::render_worker(SourceChannel* ch) {
     {
       std::lock_guard lock(views_mutex_);
       for (const auto& [_, v] : views_) {
-        if (v->subscriber_count() > 0 && v->state()->spec.source == source) views.push_back(v);
+        const auto state = v->state();
+        if (state->spec.source != source) continue;
+        if (v->subscriber_count() > 0) {
+          views.push_back(v);
+        } else if (frames->rig && frames->rig != state->rig) {
+          // A source announces a new rig (a robot that just connected) with a frame set
+          // that may hold no images at all: unwatched views rebuild too, so that their
+          // cameras are known and get pulled once somebody watches.
+          request_rebuild(state->spec.name);
+        }
       }
     }
     if (views.empty()) continue;  // nobody watching: nothing to do

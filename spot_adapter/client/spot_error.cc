@@ -1,0 +1,24 @@
+#include "spot_adapter/client/spot_error.h"
+
+namespace omniview::spot {
+
+void check_status(const grpc::Status& status, const std::string& what) {
+  if (status.ok()) return;
+  const std::string detail = what + " failed: " + status.error_message() + " (gRPC code " +
+                             std::to_string(static_cast<int>(status.error_code())) + ")";
+  switch (status.error_code()) {
+    case grpc::StatusCode::UNAUTHENTICATED:
+      throw SpotError(SpotError::Kind::kTokenRejected, detail);
+    case grpc::StatusCode::UNAVAILABLE:
+    case grpc::StatusCode::DEADLINE_EXCEEDED:
+    case grpc::StatusCode::CANCELLED:
+    case grpc::StatusCode::RESOURCE_EXHAUSTED:  // the robot proxy's HTTP 429
+    case grpc::StatusCode::ABORTED:
+      throw SpotError(SpotError::Kind::kUnreachable, detail);
+    default:
+      // UNIMPLEMENTED (HTTP 502/404 from the proxy: service not registered), INTERNAL, ...
+      throw SpotError(SpotError::Kind::kProtocol, detail);
+  }
+}
+
+}  // namespace omniview::spot

@@ -1,0 +1,45 @@
+// One GetImage round trip for the cameras some view needs: the request (formats with
+// fallbacks for greyscale and colour robots) and the response checked image by image.
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "bosdyn/api/image_service.grpc.pb.h"
+#include "core/camera/camera.h"
+#include "server/source/frame_set.h"
+#include "spot_adapter/client/robot_session.h"
+#include "spot_adapter/convert/frame_tree.h"
+#include "spot_adapter/source/spot_settings.h"
+
+namespace omniview::spot {
+
+// A robot image source the Spot source pulls, and how it asks for it.
+struct CameraSlot {
+  std::string source;  // the robot's name, e.g. frontleft_fisheye_image
+  Camera camera;       // named after its sensor frame; model and size from the robot
+  // What to request; switched to PIXEL_FORMAT_UNKNOWN (the camera's own) when a robot
+  // refuses the preferred format and ignores the fallback list.
+  bosdyn::api::Image::PixelFormat pixel_format = bosdyn::api::Image::PIXEL_FORMAT_GREYSCALE_U8;
+};
+
+struct ImageSet {
+  std::vector<cv::Mat> images;          // one per slot; empty where not wanted or bad
+  std::vector<EncodedImage> encoded;    // one per slot
+  std::vector<FrameEdge> edges;         // every response's frame tree, merged
+  std::chrono::system_clock::time_point capture_time;  // robot clock
+  size_t good = 0;                      // usable images
+  std::vector<std::string> problems;    // one line per bad image, for health and the log
+};
+
+// Requests `wanted` (slot indices) in one call, so the images are hardware-synchronised.
+// Throws SpotError for a failed call; bad single images end up in ImageSet::problems.
+ImageSet get_images(RobotSession& session, const SpotSettings& settings, std::vector<CameraSlot>& slots,
+                    const std::vector<size_t>& wanted);
+
+// The request get_images() sends (separate for tests).
+bosdyn::api::GetImageRequest image_request(const RobotSession& session, const SpotSettings& settings,
+                                           const std::vector<CameraSlot>& slots, const std::vector<size_t>& wanted);
+
+}  // namespace omniview::spot

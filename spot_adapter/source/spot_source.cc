@@ -1,0 +1,348 @@
+#include "spot_adapter/source/spot_source.h"
+
+#include <algorithm>
+#include <iostream>
+#include <mutex>
+
+#include "bosdyn/api/image_service.grpc.pb.h"
+#include "spot_adapter/convert/camera_model_from_source.h"
+#include "spot_adapter/source/spot_rig.h"
+
+namespace omniview::spot {
+namespace {
+
+namespace api = bosdyn::api;
+using Clock = std::chrono::steady_clock;
+using std::chrono::milliseconds;
+
+// A moving robot changes `vision` and `odom` in every image set; rebuilding every view's
+// map that often would cost more than the views, so the rig follows at most this often.
+constexpr auto kMinRigInterval = milliseconds(500);
+constexpr auto kErrorLogInterval = std::chrono::seconds(30);
+
+// ListImageSources does not name a source's sensor frame (only images do). Spot names the
+// body cameras' frames after their sources (frontleft_fisheye_image -> frontleft_fisheye),
+// other image services append "_sensor": take the first candidate the tree has.
+std::string sensor_frame_in(const std::map<std::string, FrameEdge>& tree, const std::string& source) {
+  const std::string suffix = "_image";
+  std::string stem = source;
+  if (stem.size() > suffix.size() && stem.compare(stem.size() - suffix.size(), suffix.size(), suffix) == 0) {
+    stem.resize(stem.size() - suffix.size());
+  }
+  for (const std::string& candidate : {stem, source, source + "_sensor", stem + "_sensor"}) {
+    if (tree.count(candidate)) return candidate;
+  }
+  return stem;  // build_spot_rig reports it missing from the tree
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& s : items) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+}  // namespace
+
+SpotSource::SpotSource(const SourceConfig& config)
+    : Source(config.name),
+      settings_(parse_spot_settings(config)),
+      channels_(settings_.address, settings_.ca_pem),
+      session_(channels_, SessionOptions{settings_.credentials_file, settings_.timeout, "omniviewd"}),
+      rig_(placeholder_rig()) {
+  health_.message = "connecting to " + to_string(settings_.address);
+}
+
+SpotSource::~SpotSource() { stop(); }
+
+std::shared_ptr<const Rig> SpotSource::rig() const {
+  std::lock_guard lock(mutex_);
+  return rig_;
+}
+
+void SpotSource::start(FrameCallback on_frame) {
+  on_frame_ = std::move(on_frame);
+  thread_ = std::thread([this] { run(); });
+}
+
+void SpotSource::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  session_.cancel();  // a call in flight to an unreachable robot ends now, not at its deadline
+  if (thread_.joinable()) thread_.join();
+}
+
+void SpotSource::set_wanted_cameras(const std::vector<bool>& wanted) {
+  {
+    std::lock_guard lock(mutex_);
+    wanted_ = wanted;
+  }
+  wake_.notify_all();
+}
+
+SourceHealth SpotSource::health() const {
+  std::lock_guard lock(mutex_);
+  return health_;
+}
+
+std::vector<size_t> SpotSource::wanted_slots() const {
+  std::lock_guard lock(mutex_);
+  std::vector<size_t> out;
+  for (size_t i = 0; i < slots_.size() && i < wanted_.size(); ++i) {
+    if (wanted_[i]) out.push_back(i);
+  }
+  return out;
+}
+
+bool SpotSource::sleep_until(Clock::time_point deadline) {
+  std::unique_lock lock(mutex_);
+  const auto none_wanted = std::none_of(wanted_.begin(), wanted_.end(), [](bool w) { return w; });
+  // Idle, a change of wanted cameras ends the wait (a viewer arrived); pulling, it waits
+  // for the next cycle so the rate never exceeds rate_hz.
+  const auto snapshot = wanted_;
+  wake_.wait_until(lock, deadline, [&] { return stopping_ || (none_wanted && wanted_ != snapshot); });
+  return !stopping_;
+}
+
+void SpotSource::report(bool connected, const std::string& message) {
+  std::lock_guard lock(mutex_);
+  health_.connected = connected;
+  health_.message = message;
+}
+
+void SpotSource::log(const std::string& line) const { std::cerr << "omniviewd: source '" << name() << "': " << line << "\n"; }
+
+void SpotSource::set_rig(std::shared_ptr<const Rig> rig) {
+  std::lock_guard lock(mutex_);
+  rig_ = std::move(rig);
+  ++rig_version_;
+}
+
+void SpotSource::announce_rig() {
+  // A frame set without images: the pipeline rebuilds every view for the new rig, and the
+  // views somebody watches then ask for their cameras.
+  auto frames = std::make_shared<FrameSet>();
+  frames->sequence = ++sequence_;
+  frames->capture_time = std::chrono::system_clock::now();
+  frames->arrival = Clock::now();
+  {
+    std::lock_guard lock(mutex_);
+    frames->rig = rig_;
+    frames->rig_version = rig_version_;
+  }
+  frames->images.resize(slots_.size());
+  on_frame_(std::move(frames));
+}
+
+void SpotSource::connect() {
+  session_.connect();
+  api::ListImageSourcesRequest request;
+  *request.mutable_header() = session_.request_header();
+  api::ListImageSourcesResponse response;
+  grpc::ClientContext context;
+  session_.prepare(context, true);
+  const auto stub = api::ImageService::NewStub(session_.service_channel("image"));
+  {
+    RobotSession::CallScope scope(session_, context);
+    check_status(stub->ListImageSources(&context, request, &response), "ListImageSources");
+  }
+  check_header(response.header(), "ListImageSources");
+
+  std::map<std::string, FrameEdge> tree;
+  for (auto& e : frame_edges(response.transforms_snapshot(), "ListImageSources")) tree[e.child] = e;
+  std::vector<CameraSlot> slots;
+  std::vector<std::string> missing, available;
+  for (const auto& s : response.image_sources()) available.push_back(s.name());
+  for (const std::string& name : settings_.cameras) {
+    const auto it = std::find_if(response.image_sources().begin(), response.image_sources().end(),
+                                 [&](const api::ImageSource& s) { return s.name() == name; });
+    if (it == response.image_sources().end()) {
+      missing.push_back(name);
+      continue;
+    }
+    CameraSlot slot;
+    slot.source = name;
+    slot.camera = camera_from_image_source(*it);
+    slot.camera.name = sensor_frame_in(tree, name);
+    slot.pixel_format = settings_.prefer_rgb ? api::Image::PIXEL_FORMAT_RGB_U8 : api::Image::PIXEL_FORMAT_GREYSCALE_U8;
+    slots.push_back(std::move(slot));
+  }
+  if (slots.empty()) {
+    throw SpotError(SpotError::Kind::kProtocol, "the robot has none of the configured cameras (it has: " +
+                                                    join(available) + ")");
+  }
+  std::vector<Camera> cameras;
+  for (const auto& s : slots) cameras.push_back(s.camera);
+  set_rig(build_spot_rig(cameras, tree));
+  {
+    std::lock_guard lock(mutex_);
+    slots_ = std::move(slots);
+    wanted_.assign(slots_.size(), false);  // the pipeline says again once it has the rig
+  }
+  tree_ = std::move(tree);
+  last_rig_change_ = Clock::now();
+
+  std::vector<std::string> names;
+  for (const auto& s : slots_) names.push_back(s.camera.name);
+  const std::string note = missing.empty() ? "" : "not on this robot: " + join(missing) + " (it has: " + join(available) + ")";
+  log("connected to " + session_.robot() + " at " + to_string(settings_.address) + "; cameras: " + join(names) +
+      (note.empty() ? "" : "; " + note));
+  connect_note_ = note;
+  report(true, note);
+  announce_rig();
+}
+
+void SpotSource::refresh_tree(const std::vector<FrameEdge>& edges) {
+  std::map<std::string, FrameEdge> tree = tree_;
+  bool moved = false;
+  for (const auto& e : edges) {
+    const auto it = tree.find(e.child);
+    if (it == tree.end() || edge_moved(it->second, e)) {
+      tree[e.child] = e;
+      moved = true;
+    }
+  }
+  if (!moved || Clock::now() - last_rig_change_ < kMinRigInterval) return;
+  std::vector<Camera> cameras;
+  for (const auto& s : slots_) cameras.push_back(s.camera);
+  set_rig(build_spot_rig(cameras, tree));
+  tree_ = std::move(tree);
+  last_rig_change_ = Clock::now();
+}
+
+void SpotSource::pull_once(const std::vector<size_t>& wanted) {
+  ImageSet set = get_images(session_, settings_, slots_, wanted);
+  const auto arrival = Clock::now();
+  if (!set.problems.empty()) {
+    {
+      std::lock_guard lock(mutex_);
+      health_.errors += set.problems.size();
+      health_.message = set.problems.back();
+    }
+    if (Clock::now() - last_error_log_ > kErrorLogInterval) {
+      log("skipped " + std::to_string(set.problems.size()) + " bad image(s): " + set.problems.front());
+      last_error_log_ = Clock::now();
+    }
+  }
+  if (set.good == 0) return;
+  try {
+    refresh_tree(set.edges);
+  } catch (const SpotError& e) {  // keep the old rig: its extrinsics are still the best we know
+    std::lock_guard lock(mutex_);
+    ++health_.errors;
+    health_.message = e.what();
+  }
+  auto frames = std::make_shared<FrameSet>();
+  frames->sequence = ++sequence_;
+  frames->capture_time = set.capture_time;
+  frames->arrival = arrival;
+  {
+    std::lock_guard lock(mutex_);
+    frames->rig = rig_;
+    frames->rig_version = rig_version_;
+    ++health_.frames;
+    health_.connected = true;
+    if (set.problems.empty()) health_.message = connect_note_;
+  }
+  frames->images = std::move(set.images);
+  frames->encoded = std::move(set.encoded);
+  on_frame_(std::move(frames));
+}
+
+std::chrono::milliseconds SpotSource::on_error(const SpotError& e) {
+  ++failures_;
+  const milliseconds backoff = std::min(milliseconds(1000), milliseconds(200) * (1 << std::min(failures_ - 1, 4)));
+  milliseconds pause = backoff;
+  std::string advice;
+  switch (e.kind()) {
+    case SpotError::Kind::kUnreachable:
+      // Fresh channels connect at once; gRPC's own reconnect backoff could add seconds.
+      if (failures_ >= 2) channels_.reset();
+      advice = "retrying every " + std::to_string(backoff.count()) + " ms";
+      break;
+    case SpotError::Kind::kTokenRejected:
+      session_.disconnect();  // log in again: expired token, or the robot restarted
+      pause = failures_ == 1 ? milliseconds(0) : backoff;
+      advice = "logging in again";
+      break;
+    case SpotError::Kind::kLoginRefused:
+      // The robot locks logins after 6 failures in a row; three a minute never gets there.
+      session_.disconnect();
+      pause = milliseconds(20000);
+      advice = "check the credentials (credentials_file, or BOSDYN_CLIENT_USERNAME/PASSWORD); retrying in 20 s";
+      break;
+    case SpotError::Kind::kLockedOut:
+      session_.disconnect();
+      pause = milliseconds(60000);
+      advice = "retrying in 60 s";
+      break;
+    case SpotError::Kind::kCredentials:
+      session_.disconnect();
+      pause = milliseconds(10000);
+      advice = "retrying in 10 s";
+      break;
+    case SpotError::Kind::kProtocol:
+      pause = session_.connected() ? backoff : milliseconds(5000);
+      advice = "retrying in " + std::to_string(pause.count()) + " ms";
+      break;
+  }
+  const std::string message = std::string(e.what()) + "; " + advice;
+  bool changed;
+  {
+    std::lock_guard lock(mutex_);
+    ++health_.errors;
+    changed = health_.message != message;
+    health_.connected = false;
+    health_.message = message;
+  }
+  if (changed || Clock::now() - last_error_log_ > kErrorLogInterval) {
+    log(to_string(settings_.address) + ": " + message);
+    last_error_log_ = Clock::now();
+  }
+  return pause;
+}
+
+void SpotSource::run() {
+  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / settings_.rate_hz));
+  while (true) {
+    const auto cycle = Clock::now();
+    Clock::time_point next;
+    try {
+      if (session_.cancelled()) return;
+      if (!session_.connected()) connect();
+      session_.refresh_if_due();
+      const auto wanted = wanted_slots();
+      if (wanted.empty()) {
+        report(true, connect_note_);
+        next = cycle + std::chrono::seconds(1);  // nobody watches: pull nothing
+      } else {
+        pull_once(wanted);
+        failures_ = 0;
+        next = cycle + period;
+      }
+    } catch (const SpotError& e) {
+      if (session_.cancelled()) return;
+      next = Clock::now() + on_error(e);
+    } catch (const std::exception& e) {  // a rig the core refuses, a bad allocation: keep going
+      if (session_.cancelled()) return;
+      next = Clock::now() + on_error(SpotError(SpotError::Kind::kProtocol, e.what()));
+    }
+    if (!sleep_until(next)) return;
+  }
+}
+
+std::unique_ptr<Source> make_spot_source(const SourceConfig& config) { return std::make_unique<SpotSource>(config); }
+
+void register_spot_source() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    register_source_type("spot",
+                         "Boston Dynamics Spot over its gRPC API (keys: robot, ca_file, credentials_file, cameras, "
+                         "rate_hz, image_format, jpeg_quality, pixel_format, timeout_s)",
+                         make_spot_source);
+  });
+}
+
+}  // namespace omniview::spot

@@ -1,0 +1,82 @@
+// Source type `spot`: Boston Dynamics' Spot, through its own gRPC API exactly as BD's SDKs
+// talk to it (TLS per authority, token login, directory). Keys: spot_settings.h.
+//
+// One thread per source: connect (login, robot id, directory, image sources and frame
+// tree -> rig), then while some view needs cameras pull them in one GetImage per cycle at
+// rate_hz; with nobody watching nothing is pulled. A robot that goes away is retried with
+// a short backoff (views resume within about a second of its return); refused logins are
+// retried rarely, so a wrong password never trips the robot's lockout.
+#pragma once
+
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "server/source/source_registry.h"
+#include "spot_adapter/client/robot_channels.h"
+#include "spot_adapter/client/robot_session.h"
+#include "spot_adapter/client/spot_error.h"
+#include "spot_adapter/source/image_set.h"
+#include "spot_adapter/source/spot_settings.h"
+
+namespace omniview::spot {
+
+class SpotSource : public Source {
+ public:
+  // Reads and checks the config (no network: the robot may be away when the daemon starts).
+  explicit SpotSource(const SourceConfig& config);
+  ~SpotSource() override;
+
+  std::string type() const override { return "spot"; }
+  std::shared_ptr<const Rig> rig() const override;
+  void start(FrameCallback on_frame) override;
+  void stop() override;
+  void set_wanted_cameras(const std::vector<bool>& wanted) override;
+  SourceHealth health() const override;
+
+ private:
+  void run();
+  void connect();
+  void pull_once(const std::vector<size_t>& wanted);
+  void refresh_tree(const std::vector<FrameEdge>& edges);
+  void set_rig(std::shared_ptr<const Rig> rig);
+  void announce_rig();
+  // Waits for the deadline, a change of wanted cameras or stop(); false on stop().
+  bool sleep_until(std::chrono::steady_clock::time_point deadline);
+  std::chrono::milliseconds on_error(const SpotError& e);
+  std::vector<size_t> wanted_slots() const;
+  void report(bool connected, const std::string& message);
+  void log(const std::string& line) const;
+
+  SpotSettings settings_;
+  RobotChannels channels_;
+  RobotSession session_;
+  FrameCallback on_frame_;
+  std::thread thread_;
+
+  // Only the source's thread touches these.
+  std::vector<CameraSlot> slots_;
+  std::map<std::string, FrameEdge> tree_;  // the frame tree the current rig was built from
+  uint64_t sequence_ = 0;
+  int failures_ = 0;  // in a row, for the backoff
+  std::chrono::steady_clock::time_point last_error_log_;
+  std::chrono::steady_clock::time_point last_rig_change_;
+  std::string connect_note_;  // configured cameras the robot lacks, shown in status
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::vector<bool> wanted_;  // by rig camera (= slot) index
+  std::shared_ptr<const Rig> rig_;
+  uint64_t rig_version_ = 1;
+  SourceHealth health_;
+};
+
+std::unique_ptr<Source> make_spot_source(const SourceConfig& config);
+
+// Registers `type: spot` (the daemon calls this at start-up).
+void register_spot_source();
+
+}  // namespace omniview::spot
