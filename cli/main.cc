@@ -1,5 +1,6 @@
 // omniview: the command-line tool. Subcommands live in their own files: `render` works
 // offline, the others talk to the daemon omniviewd (cli/client/).
+#include <algorithm>
 #include <functional>
 #include <iostream>
 #include <map>
@@ -30,8 +31,10 @@ talking to omniviewd:
   status    the daemon's sources, views and clients
   record    record what a source delivers, for the replay source
 
-Connection options of those commands: --server HOST:PORT (or OMNIVIEW_SERVER; default
-127.0.0.1:50051), --tls-ca FILE, --token-file FILE (or OMNIVIEW_TOKEN).
+Connection options of those commands, before or after the command: --server HOST:PORT
+(or OMNIVIEW_SERVER; default 127.0.0.1:50051), --tls-ca FILE, --tls-cert FILE --tls-key
+FILE (a client certificate, where the daemon asks for one), --token-file FILE (or
+OMNIVIEW_TOKEN, the token itself, or OMNIVIEW_TOKEN_FILE, a file holding it).
 
 Run 'omniview COMMAND --help' for a command's options.
 )";
@@ -47,10 +50,44 @@ const std::map<std::string, Command>& commands() {
   return table;
 }
 
+// `omniview --server robot:50051 status` as well as `omniview status --server ...`: the
+// connection options in front of the command move behind it. Throws UsageError for any
+// other option there.
+std::vector<std::string> command_first(const std::vector<std::string>& args) {
+  const auto& connection = omniview::cli::connection_flags();
+  std::vector<std::string> leading;
+  size_t i = 0;
+  for (; i < args.size() && args[i].rfind("--", 0) == 0; ++i) {
+    const std::string name = args[i].substr(2, args[i].find('=') - 2);
+    if (name == "help" || name == "version") break;
+    if (std::find(connection.begin(), connection.end(), name) == connection.end()) {
+      throw omniview::cli::UsageError("unknown option " + args[i] +
+                                      " before the command (only connection options may come first; see --help)");
+    }
+    leading.push_back(args[i]);
+    if (args[i].find('=') == std::string::npos) {
+      if (i + 1 >= args.size()) throw omniview::cli::UsageError(args[i] + " needs a value");
+      leading.push_back(args[++i]);
+    }
+  }
+  if (leading.empty()) return args;
+  if (i >= args.size()) throw omniview::cli::UsageError("missing COMMAND after the connection options (see --help)");
+  std::vector<std::string> out{args[i]};
+  out.insert(out.end(), args.begin() + static_cast<long>(i) + 1, args.end());
+  out.insert(out.end(), leading.begin(), leading.end());
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::vector<std::string> args(argv + 1, argv + argc);
+  std::vector<std::string> args(argv + 1, argv + argc);
+  try {
+    args = command_first(args);
+  } catch (const omniview::cli::UsageError& e) {
+    std::cerr << "omniview: " << e.what() << "\n";
+    return 2;
+  }
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     std::cout << kUsage;
     return args.empty() ? 2 : 0;

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# The main job on the built-in default: installs, builds, starts omniviewd with
-# config/omniviewd.yaml (the bundled dual-fisheye example rig and images played as a live
-# camera), drives it with the `omniview` CLI the way an operator would — status, cameras,
-# snapshots of the configured views, a virtual pan-tilt-zoom camera, a short stream — writes
-# everything into out/demo/, and leaves the daemon running for you to watch until Ctrl-C.
+# The main job on the built-in default, no robot needed: installs, builds, starts spot-mock
+# (a simulated Spot speaking the robot's own gRPC API over TLS, with five body cameras
+# looking at a synthetic room) and omniviewd with config/spot.yaml — the same config a real
+# Spot takes, with its address and credentials — then drives the daemon with the `omniview`
+# CLI the way an operator would: status, cameras, snapshots of the `front` and `birdseye`
+# views, a virtual pan-tilt-zoom camera, a short stream. Everything goes into out/demo/;
+# both processes keep running for you to watch until Ctrl-C.
 #
 #   bash scripts/demo.sh           # ... and keep serving on 127.0.0.1:50051
-#   bash scripts/demo.sh --exit    # ... and stop the daemon at the end (scripts, CI)
+#   bash scripts/demo.sh --exit    # ... and stop both at the end (scripts, CI)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 keep_serving=1
@@ -17,56 +19,83 @@ case "${1:-}" in
 esac
 
 bash scripts/install-deps.sh
-bash scripts/build.sh omniview omniviewd
+bash scripts/build.sh omniview omniviewd spot-mock
 
 omniviewd=./build/server/daemon/omniviewd
 omniview=./build/cli/omniview
+spot_mock=./build/spot_adapter/mock/spot-mock
 out=out/demo
+robot=out/spot-mock   # the simulated robot's CA and login (config/spot.yaml points here)
 rm -rf "$out"
-mkdir -p "$out"
+mkdir -p "$out" "$robot"
 
 step() { printf '\n\033[1m== %s\033[0m\n' "$*"; }
 
-step "starting omniviewd --config config/omniviewd.yaml (log: $out/omniviewd.log)"
-"$omniviewd" --config config/omniviewd.yaml --ready-file "$out/omniviewd.ready" > "$out/omniviewd.log" 2>&1 &
-daemon=$!
-stop_daemon() {
-  if kill -0 "$daemon" 2> /dev/null; then
-    kill -TERM "$daemon" 2> /dev/null || true
-    wait "$daemon" 2> /dev/null || true
-  fi
+# However the script ends (done, an error, Ctrl-C at any point), both processes are
+# stopped and, once they had served, that is said.
+pids=()
+served=0
+stop_all() {
+  for pid in "${pids[@]}"; do kill -TERM "$pid" 2> /dev/null || true; done
+  for pid in "${pids[@]}"; do wait "$pid" 2> /dev/null || true; done
+  if [ "$served" = 1 ]; then echo "omniviewd and spot-mock stopped."; fi
+  served=0
 }
-trap stop_daemon EXIT
-for _ in $(seq 300); do
-  [ -s "$out/omniviewd.ready" ] && break
-  if ! kill -0 "$daemon" 2> /dev/null; then
-    echo "omniviewd did not start:" >&2
-    cat "$out/omniviewd.log" >&2
-    exit 1
-  fi
+trap stop_all EXIT
+trap 'echo; exit 130' INT TERM
+
+# wait_ready NAME PID READY_FILE LOG: until the process has written its address.
+wait_ready() {
+  for _ in $(seq 300); do
+    [ -s "$3" ] && { echo "$1 listening on $(cat "$3")"; return 0; }
+    if ! kill -0 "$2" 2> /dev/null; then
+      echo "$1 did not start:" >&2
+      cat "$4" >&2
+      exit 1
+    fi
+    sleep 0.1
+  done
+  echo "$1 did not get ready within 30 s" >&2
+  cat "$4" >&2
+  exit 1
+}
+
+step "starting spot-mock, a simulated Spot on 127.0.0.1:50443 (log: $out/spot-mock.log)"
+"$spot_mock" --port 50443 --certs "$robot" --credentials "$robot/credentials.yaml" \
+  --ready-file "$out/spot-mock.ready" > "$out/spot-mock.log" 2>&1 &
+pids+=($!)
+wait_ready spot-mock "$!" "$out/spot-mock.ready" "$out/spot-mock.log"
+
+step "starting omniviewd --config config/spot.yaml (log: $out/omniviewd.log)"
+"$omniviewd" --config config/spot.yaml --ready-file "$out/omniviewd.ready" > "$out/omniviewd.log" 2>&1 &
+pids+=($!)
+wait_ready omniviewd "$!" "$out/omniviewd.ready" "$out/omniviewd.log"
+served=1
+
+# The daemon logs in to the robot and reads its cameras in the background.
+for _ in $(seq 100); do
+  grep -q "source 'spot': connected" "$out/omniviewd.log" && break
   sleep 0.1
 done
-[ -s "$out/omniviewd.ready" ] || { echo "omniviewd did not get ready within 30 s" >&2; cat "$out/omniviewd.log" >&2; exit 1; }
-echo "listening on $(cat "$out/omniviewd.ready")"
 
 step "omniview status"
 "$omniview" status
-step "omniview cameras"
+step "omniview cameras (calibration and poses as the robot reports them)"
 "$omniview" cameras
 
 step "snapshots of the configured views"
-for view in front birdseye panorama; do
+for view in front birdseye; do
   "$omniview" snapshot "$view" -o "$out/$view.jpg"
 done
 
-step "a virtual pan-tilt-zoom camera: create it, then point it"
+step "a virtual pan-tilt-zoom camera on the robot's body: create it, then point it"
 "$omniview" views create --set name=ptz --set type=perspective --set width=640 --set height=480 \
-  --set frame=base_link --set position=0,0,1 --set hfov_deg=90
+  --set frame=body --set position=0,0,0.1 --set hfov_deg=90 --set tilt=20
 "$omniview" snapshot ptz -o "$out/ptz_ahead.jpg"
-"$omniview" ptz ptz --pan 120 --tilt 15 --zoom 2
-"$omniview" snapshot ptz -o "$out/ptz_left_back_zoomed.jpg"
+"$omniview" ptz ptz --pan 90 --zoom 1.5
+"$omniview" snapshot ptz -o "$out/ptz_left_zoomed.jpg"
 "$omniview" ptz ptz --relative --pan 90
-"$omniview" snapshot ptz -o "$out/ptz_panned_further.jpg"
+"$omniview" snapshot ptz -o "$out/ptz_behind.jpg"
 
 step "20 frames of the front view, with their latencies"
 "$omniview" stream front --frames 20 -o "$out/front_stream"
@@ -77,11 +106,12 @@ echo "Everything above is in $(pwd)/$out/"
 if [ "$keep_serving" = 0 ]; then exit 0; fi
 cat << EOF
 
-omniviewd keeps serving on 127.0.0.1:50051 until you press Ctrl-C. In another terminal:
-  $omniview watch front                 # live frame rate, latency and drops
+omniviewd keeps serving on 127.0.0.1:50051 (and spot-mock on 50443) until you press
+Ctrl-C. In another terminal:
+  $omniview watch birdseye              # live frame rate, latency and skipped frames
   $omniview ptz ptz --dpan 10           # pan the virtual camera 10 degrees left
-  $omniview views get panorama          # a view as YAML: edit it, then 'views update --file'
+  $omniview views get front             # a view as YAML: edit it, then 'views update --file'
   $omniview --help                      # every command
 EOF
-trap 'stop_daemon; echo; echo "omniviewd stopped."; exit 0' INT TERM
-wait "$daemon"
+trap 'echo; exit 0' INT TERM  # Ctrl-C is how this ends: no error
+wait

@@ -7,7 +7,7 @@ packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev libopencv-dev libyaml-cpp-dev
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
-  openssl python3 python3-grpcio python3-protobuf
+  libssl-dev openssl python3 python3-grpcio python3-protobuf
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

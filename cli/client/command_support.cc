@@ -114,6 +114,12 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
+void print_stream_note(const grpc::ClientContext& context) {
+  const auto& metadata = context.GetServerInitialMetadata();
+  const auto [begin, end] = metadata.equal_range("omniview-note");
+  for (auto it = begin; it != end; ++it) std::cerr << "note: " << std::string(it->second.data(), it->second.size()) << "\n";
+}
+
 StreamStopper::StreamStopper(grpc::ClientContext& context, double duration_s) : context_(context) {
   g_interrupted = 0;
   std::signal(SIGINT, on_interrupt);

@@ -48,6 +48,10 @@ std::string format_time(const google::protobuf::Timestamp& t);
 double to_seconds(const google::protobuf::Timestamp& t);
 double now_seconds();  // since the Unix epoch, for latencies against capture times
 
+// Prints the daemon's note on a stream (say, a --rate above its limit that it capped) to
+// stderr as "note: ...". Call once the first frame arrived (the metadata came with it).
+void print_stream_note(const grpc::ClientContext& context);
+
 // Cancels a streaming call when the user presses Ctrl-C, when `duration_s` (> 0) has
 // passed, or on stop(), so a command can end cleanly and print its summary. A second
 // Ctrl-C kills the process as usual.

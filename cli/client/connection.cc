@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cli/client/status_messages.h"
+#include "cli/client/tls_probe.h"
 
 namespace omniview::cli {
 namespace {
@@ -37,7 +38,8 @@ std::string read_file(const std::string& path, const std::string& what) {
 }  // namespace
 
 const std::vector<std::string>& connection_flags() {
-  static const std::vector<std::string> flags{"server", "tls-ca", "tls-server-name", "token-file", "timeout"};
+  static const std::vector<std::string> flags{"server",          "tls-ca",     "tls-cert", "tls-key",
+                                              "tls-server-name", "token-file", "timeout"};
   return flags;
 }
 
@@ -45,6 +47,9 @@ const char* connection_help() {
   return R"(connection:
   --server HOST:PORT     omniviewd's address (default $OMNIVIEW_SERVER, else 127.0.0.1:50051)
   --tls-ca FILE          connect with TLS, trusting the CA certificate(s) in FILE (PEM)
+  --tls-cert FILE        with --tls-key: this client's certificate (PEM), for a daemon
+                         that requires client certificates (its config has tls.client_ca)
+  --tls-key FILE         the private key (PEM) of --tls-cert
   --tls-server-name NAME the name the server certificate must carry (default: HOST)
   --token-file FILE      file holding the access token (default $OMNIVIEW_TOKEN, the token
                          itself, or $OMNIVIEW_TOKEN_FILE)
@@ -70,6 +75,14 @@ ConnectionOptions connection_options(const Args& args) {
   o.tls_ca_file = args.get("tls-ca");
   o.tls_server_name = args.get("tls-server-name");
   if (!o.tls_server_name.empty() && o.tls_ca_file.empty()) throw UsageError("--tls-server-name needs --tls-ca");
+  o.tls_cert_file = args.get("tls-cert");
+  o.tls_key_file = args.get("tls-key");
+  if (o.tls_cert_file.empty() != o.tls_key_file.empty()) {
+    throw UsageError("--tls-cert and --tls-key go together: give the client certificate and its key");
+  }
+  if (!o.tls_cert_file.empty() && o.tls_ca_file.empty()) {
+    throw UsageError("--tls-cert needs --tls-ca (the CA that signed the daemon's certificate)");
+  }
 
   if (args.has("token-file")) {
     o.token = read_token_file(args.get("token-file"));
@@ -117,6 +130,16 @@ Connection::Connection(ConnectionOptions options) : options_(std::move(options))
     if (ssl.pem_root_certs.find("-----BEGIN CERTIFICATE-----") == std::string::npos) {
       throw UsageError("--tls-ca '" + options_.tls_ca_file + "' holds no PEM certificate");
     }
+    if (!options_.tls_cert_file.empty()) {
+      ssl.pem_cert_chain = read_file(options_.tls_cert_file, "--tls-cert file");
+      ssl.pem_private_key = read_file(options_.tls_key_file, "--tls-key file");
+      if (ssl.pem_cert_chain.find("-----BEGIN CERTIFICATE-----") == std::string::npos) {
+        throw UsageError("--tls-cert '" + options_.tls_cert_file + "' holds no PEM certificate");
+      }
+      if (ssl.pem_private_key.find("PRIVATE KEY-----") == std::string::npos) {
+        throw UsageError("--tls-key '" + options_.tls_key_file + "' holds no PEM private key");
+      }
+    }
     credentials = grpc::SslCredentials(ssl);
     if (!options_.tls_server_name.empty()) channel_args.SetSslTargetNameOverride(options_.tls_server_name);
   }
@@ -133,8 +156,12 @@ void Connection::prepare(grpc::ClientContext& context, bool unary) const {
 
 void Connection::check(const grpc::Status& status, const std::string& what) const {
   if (status.ok()) return;
-  const CallContext call{options_.server, !options_.tls_ca_file.empty(), !options_.token.empty(), options_.token_origin,
-                         options_.deadline.count() / 1000.0};
+  CallContext call{options_.server, !options_.tls_ca_file.empty(), !options_.token.empty(), options_.token_origin,
+                   options_.deadline.count() / 1000.0};
+  call.client_certificate = !options_.tls_cert_file.empty();
+  // gRPC reports a refused missing client certificate as "Socket closed": ask the server.
+  call.client_certificate_requested = status.error_code() == grpc::StatusCode::UNAVAILABLE && call.tls &&
+                                      !call.client_certificate && server_requests_client_certificate(options_.server);
   throw RpcError(status.error_code(), describe_status(status, call, what));
 }
 

@@ -20,6 +20,7 @@ struct ConnectionOptions {
   std::string server = kDefaultServer;        // HOST:PORT
   std::string tls_ca_file;                    // empty: plaintext
   std::string tls_server_name;                // overrides the name checked in the server certificate
+  std::string tls_cert_file, tls_key_file;    // client certificate and key (mutual TLS); both or neither
   std::string token;                          // empty: send none
   std::string token_origin;                   // "--token-file F" or "OMNIVIEW_TOKEN", for messages
   std::chrono::milliseconds deadline{10000};  // unary calls only; streams run until done

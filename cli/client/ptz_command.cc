@@ -19,15 +19,20 @@ Points a view (needs an operator token) and prints where it then looks. With no
 change, prints the view's current pan, tilt and field of view.
 
   --pan DEG       yaw, positive turns left
-  --tilt DEG      pitch, positive looks down
+  --tilt DEG      pitch, positive looks down, in [-90, 90]; steps stop at straight down
+                  (90) or up (-90)
   --roll DEG      roll
-  --zoom X        perspective and bird's-eye views: zoom 1 is a 90 deg horizontal field of
+  --zoom X        perspective and birdseye views: zoom 1 is a 90 deg horizontal field of
                   view, zoom X has X times its focal length (hfov = 2 atan(1 / X))
-  --hfov DEG      the horizontal field of view itself
+  --hfov DEG      the horizontal field of view itself (perspective and birdseye views)
   --relative      --pan, --tilt, --roll and --zoom are steps from where the view is
-                  (zoom 2 doubles the focal length; fisheye views halve their fov)
+                  (zoom 2 doubles the focal length; fisheye views halve their fov_deg)
   --dpan, --dtilt, --droll DEG, --dzoom X
                   steps, as with --relative
+
+Panoramas (cylindrical, mercator, equirectangular) have no zoom: narrow one with
+'omniview views update VIEW --set azimuth_span_deg=DEG' (and vfov_deg for cylindrical,
+lat_min_deg/lat_max_deg for the others).
 
 )") + connection_help();
 
@@ -108,14 +113,18 @@ int ptz_command(const std::vector<std::string>& argv) {
     std::cout << describe(get_view(connection, name)) << "\n";
     return 0;
   }
-  if (set.has_hfov_deg()) {
-    // hfov only means something to pinhole views; say so rather than change nothing visible.
+  if (set.has_hfov_deg() || delta.zoom() != 0) {
+    // Say what zooms this view rather than let the daemon refuse a key it does not have.
     const auto type = get_view(connection, name).spec().type();
-    if (type != v1::PERSPECTIVE && type != v1::BIRDSEYE) {
-      throw UsageError(
-          "--zoom and --hfov apply to perspective and bird's-eye views; for this view use "
-          "--relative --zoom X, or 'omniview views update " +
-          name + " --set fov_deg=DEG'");
+    if (type == v1::FISHEYE && set.has_hfov_deg()) {
+      throw UsageError("view '" + name + "' is a fisheye view: zoom it with --relative --zoom X (or --dzoom X), "
+                       "or set its field of view with 'omniview views update " + name + " --set fov_deg=DEG'");
+    }
+    if (type != v1::PERSPECTIVE && type != v1::BIRDSEYE && type != v1::FISHEYE) {
+      throw UsageError("view '" + name + "' is a " + to_string(from_proto(type, "view '" + name + "'")) +
+                       " panorama, which has no zoom: narrow it with 'omniview views update " + name +
+                       " --set azimuth_span_deg=DEG'" +
+                       (type == v1::CYLINDRICAL ? " (and vfov_deg)" : " (and lat_min_deg, lat_max_deg)"));
     }
   }
   v1::View view;
@@ -123,6 +132,10 @@ int ptz_command(const std::vector<std::string>& argv) {
   connection.prepare(context, true);
   connection.check(connection.stub().UpdateView(&context, request, &view), "view '" + name + "'");
   std::cout << describe(view) << "\n";
+  if (delta.pitch_deg() != 0 && std::abs(view.spec().pitch_deg()) == 90) {
+    std::cout << "(tilt stops at " << (view.spec().pitch_deg() > 0 ? "90 deg, straight down" : "-90 deg, straight up")
+              << "; pan by 180 to look behind)\n";
+  }
   return 0;
 }
 

@@ -72,6 +72,8 @@ int status_command(const std::vector<std::string>& argv) {
           {c.peer(), c.view(), c.encoding(), std::to_string(c.frames_sent()), std::to_string(c.frames_dropped())});
     }
     clients.print(std::cout, "  ");
+    // Not the sequence gaps 'omniview watch' shows as skipped (those include --rate).
+    std::cout << "  (DROPPED: frames rendered for the client but replaced before it read them: it reads too slowly)\n";
   }
   return 0;
 }

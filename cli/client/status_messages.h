@@ -13,6 +13,8 @@ struct CallContext {
   bool has_token = false;
   std::string token_origin;  // where the token came from, if any
   double deadline_s = 0;     // 0: the call had none (a stream)
+  bool client_certificate = false;  // --tls-cert given
+  bool client_certificate_requested = false;  // the server asks for one (see tls_probe.h)
 };
 
 // `what` names what was asked for ("view 'front'", "GetStatus"); it may be empty.

@@ -21,7 +21,9 @@ DIR/frames.csv: file, sequence, capture time (UTC), latency (ms), size, view rev
 Ctrl-C stops early and keeps what was written.
 
   --frames N         how many frames
-  -o, --output DIR   the folder (created if missing)
+  -o, --output DIR   the folder (created if missing; one with files in it is refused)
+  --force            write into a folder that has files, replacing its frames.csv and
+                     frame_*.* files
 )") +
     stream_help() + "\n" + connection_help();
 
@@ -36,11 +38,20 @@ std::string frame_file_name(uint64_t index, v1::Encoding encoding) {
 int stream_command(const std::vector<std::string>& argv) {
   std::vector<std::string> flags = stream_flags();
   flags.insert(flags.end(), {"frames", "output"});
-  const auto args = parse_command_args(argv, stream_switches(), flags, kHelp);
+  std::vector<std::string> switches = stream_switches();
+  switches.push_back("force");
+  const auto args = parse_command_args(argv, switches, flags, kHelp);
   if (!args) return 0;
   expect_positional(*args, 1, "VIEW");
   const int wanted = parse_count(args->required("frames"), "--frames");
   const std::filesystem::path folder = args->required("output");
+  // Another run's frames.csv would be replaced and its frames mixed with these.
+  std::error_code ec;
+  if (!args->has("force") && std::filesystem::is_directory(folder, ec) &&
+      !std::filesystem::is_empty(folder, ec)) {
+    throw UsageError("'" + folder.string() +
+                     "' is not empty: choose another folder, or pass --force to replace the frames in it");
+  }
   const auto request = stream_request(*args, args->positional()[0], v1::JPEG);
 
   Connection connection(connection_options(*args));
@@ -53,6 +64,7 @@ int stream_command(const std::vector<std::string>& argv) {
   std::ofstream csv;
   while (written < wanted && reader->Read(&frame)) {
     if (written == 0) {  // only now: a wrong view name or a refused call leaves nothing behind
+      print_stream_note(context);
       std::filesystem::create_directories(folder);
       csv.open(folder / "frames.csv", std::ios::trunc);
       if (!csv) throw std::runtime_error("cannot write '" + (folder / "frames.csv").string() + "'");
@@ -68,15 +80,18 @@ int stream_command(const std::vector<std::string>& argv) {
   }
   if (written == wanted) stopper.stop();  // the daemon ends the call when it sees the cancel
   const grpc::Status status = reader->Finish();
-  if (!(stopper.stopped() && status.error_code() == grpc::StatusCode::CANCELLED)) {
-    connection.check(status, "view '" + request.view() + "'");
+  const bool failed = !status.ok() && !(stopper.stopped() && status.error_code() == grpc::StatusCode::CANCELLED);
+  // The summary first, also when the stream failed (daemon shutting down, source gone):
+  // what was written stays usable.
+  if (written > 0 || !failed) {
+    std::cout << "wrote " << written << " frame" << (written == 1 ? "" : "s") << " to " << folder.string() << "/";
+    if (written < wanted) {
+      std::cout << " (" << (stopper.interrupted() ? "interrupted" : "the stream ended") << " before " << wanted << ")";
+    }
+    std::cout << "\n" << std::flush;
   }
-  std::cout << "wrote " << written << " frame" << (written == 1 ? "" : "s") << " to " << folder.string() << "/";
-  if (written < wanted) {
-    std::cout << " (" << (stopper.interrupted() ? "interrupted" : "the stream ended") << " before " << wanted << ")\n";
-    return stopper.interrupted() ? 130 : 1;
-  }
-  std::cout << "\n";
+  if (failed) connection.check(status, "view '" + request.view() + "'");
+  if (written < wanted) return stopper.interrupted() ? 130 : 1;
   return 0;
 }
 

@@ -11,8 +11,6 @@
 namespace omniview::cli {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 std::string trim(const std::string& s) {
   const auto first = s.find_first_not_of(" \t");
   if (first == std::string::npos) return "";
@@ -86,73 +84,6 @@ v1::ViewSpec only_given_fields(v1::ViewSpec full, const YAML::Node& node) {
 
 }  // namespace
 
-v1::ViewType to_proto(ViewType type) { return static_cast<v1::ViewType>(static_cast<int>(type) + 1); }
-
-ViewType from_proto(v1::ViewType type) {
-  if (type == v1::VIEW_TYPE_UNSPECIFIED || !v1::ViewType_IsValid(type)) {
-    throw std::invalid_argument("view type " + std::to_string(static_cast<int>(type)) +
-                                " is not one this client knows");
-  }
-  return static_cast<ViewType>(static_cast<int>(type) - 1);
-}
-
-v1::Fusion to_proto(Fusion fusion) { return fusion == Fusion::kBlend ? v1::BLEND : v1::NEAREST_CENTRE; }
-
-v1::ViewSpec to_proto(const ViewSpec& s) {
-  v1::ViewSpec p;
-  p.set_name(s.name);
-  p.set_type(to_proto(s.type));
-  p.set_source(s.source);
-  p.set_width(s.width);
-  p.set_height(s.height);
-  p.set_frame(s.frame);
-  p.mutable_position()->set_x(s.position.x());
-  p.mutable_position()->set_y(s.position.y());
-  p.mutable_position()->set_z(s.position.z());
-  p.set_yaw_deg(s.yaw_deg);
-  p.set_pitch_deg(s.pitch_deg);
-  p.set_roll_deg(s.roll_deg);
-  p.set_hfov_deg(s.hfov_deg);
-  p.set_distance(s.distance);
-  p.set_height_m(s.height_m);
-  p.set_ground_z(s.ground_z);
-  p.set_radius(s.radius);
-  p.set_vfov_deg(s.vfov_deg);
-  p.set_azimuth_span_deg(s.azimuth_span_deg);
-  p.set_lat_min_deg(s.lat_min_deg);
-  p.set_lat_max_deg(s.lat_max_deg);
-  p.set_fov_deg(s.fov_deg);
-  p.set_fusion(to_proto(s.fusion));
-  p.set_feather_px(s.feather_px);
-  return p;
-}
-
-ViewSpec from_proto(const v1::ViewSpec& p) {
-  ViewSpec s = default_view_spec(p.has_type() ? from_proto(p.type()) : ViewType::kPerspective);
-  if (p.has_name()) s.name = p.name();
-  if (p.has_source()) s.source = p.source();
-  if (p.has_width()) s.width = p.width();
-  if (p.has_height()) s.height = p.height();
-  if (p.has_frame()) s.frame = p.frame();
-  if (p.has_position()) s.position = Vec3(p.position().x(), p.position().y(), p.position().z());
-  if (p.has_yaw_deg()) s.yaw_deg = p.yaw_deg();
-  if (p.has_pitch_deg()) s.pitch_deg = p.pitch_deg();
-  if (p.has_roll_deg()) s.roll_deg = p.roll_deg();
-  if (p.has_hfov_deg()) s.hfov_deg = p.hfov_deg();
-  if (p.has_distance()) s.distance = p.distance();
-  if (p.has_height_m()) s.height_m = p.height_m();
-  if (p.has_ground_z()) s.ground_z = p.ground_z();
-  if (p.has_radius()) s.radius = p.radius();
-  if (p.has_vfov_deg()) s.vfov_deg = p.vfov_deg();
-  if (p.has_azimuth_span_deg()) s.azimuth_span_deg = p.azimuth_span_deg();
-  if (p.has_lat_min_deg()) s.lat_min_deg = p.lat_min_deg();
-  if (p.has_lat_max_deg()) s.lat_max_deg = p.lat_max_deg();
-  if (p.has_fov_deg()) s.fov_deg = p.fov_deg();
-  if (p.has_fusion()) s.fusion = p.fusion() == v1::BLEND ? Fusion::kBlend : Fusion::kNearestCentre;
-  if (p.has_feather_px()) s.feather_px = p.feather_px();
-  return s;
-}
-
 std::vector<v1::ViewSpec> views_from_yaml(const YamlReader& reader) {
   const std::vector<ViewSpec> parsed = parse_views(reader);  // checks keys, types, values
   const YAML::Node& root = reader.root();
@@ -222,9 +153,5 @@ const char* settable_keys_help() {
   fov_deg (fov), fusion (nearest|blend), feather_px
 )";
 }
-
-double hfov_from_zoom(double zoom) { return 2 * std::atan(1.0 / zoom) * 180 / kPi; }
-
-double zoom_from_hfov(double hfov_deg) { return 1.0 / std::tan(hfov_deg * kPi / 360); }
 
 }  // namespace omniview::cli

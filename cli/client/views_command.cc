@@ -38,7 +38,7 @@ std::string view_label(const std::string& name) { return "view '" + name + "'"; 
 
 std::string type_name(const v1::ViewSpec& s) {
   try {
-    return to_string(from_proto(s.type()));
+    return to_string(from_proto(s.type(), "view '" + s.name() + "'"));
   } catch (const std::invalid_argument&) {
     return "type " + std::to_string(static_cast<int>(s.type()));
   }

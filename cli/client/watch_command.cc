@@ -17,8 +17,10 @@ const std::string kHelp = std::string(R"(usage: omniview watch VIEW [--duration 
 Streams a view and prints, once a second, what arrives: frames per second, latency
 (the daemon's, from the images' arrival to the frame's encoding: median and max over the
 second), age (capture time to arrival here: needs synchronised clocks), frame size, and
-dropped frames (gaps in the sequence: frames the daemon skipped because this client or
-the view was slower than the source). Ctrl-C stops.
+skipped source frames (gaps in the sequence numbers: frames of the source this client did
+not get, whether left out by --rate, by a view slower than its source, or dropped from its
+slot because it read too slowly; 'omniview status' counts only the last, as DROPPED).
+Ctrl-C stops; the summary is printed however the stream ends.
 
   --duration S       stop after S seconds
 )") + stream_help() + "\n" +
@@ -27,7 +29,7 @@ the view was slower than the source). Ctrl-C stops.
 // Frames seen in the current one-second window.
 struct Window {
   int frames = 0;
-  uint64_t dropped = 0;
+  uint64_t skipped = 0;
   std::vector<double> latencies_ms, ages_ms;
   void clear() { *this = Window(); }
 };
@@ -38,14 +40,18 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+std::string summary_of_skips(uint64_t skipped, bool rate_limited) {
+  return std::to_string(skipped) + " source frames skipped" + (rate_limited && skipped > 0 ? " (most by --rate)" : "");
+}
+
 std::string line(const std::string& view, const Window& w, double seconds, const v1::Frame& last,
-                 uint64_t dropped_total) {
+                 uint64_t skipped_total) {
   const double max_latency =
       w.latencies_ms.empty() ? 0 : *std::max_element(w.latencies_ms.begin(), w.latencies_ms.end());
   return view + "  " + fixed(w.frames / seconds, 1) + " fps  latency p50 " + fixed(median(w.latencies_ms), 1) +
          " max " + fixed(max_latency, 1) + " ms  age p50 " +
          (w.ages_ms.empty() ? std::string("-") : fixed(median(w.ages_ms), 1) + " ms") + "  " + describe_frame(last) +
-         "  dropped " + std::to_string(w.dropped) + " (total " + std::to_string(dropped_total) + ")  rev " +
+         "  skipped " + std::to_string(w.skipped) + " (total " + std::to_string(skipped_total) + ")  rev " +
          std::to_string(last.camera().revision());
 }
 
@@ -73,14 +79,15 @@ int watch_command(const std::vector<std::string>& argv) {
   auto window_start = start;
   Window window;
   v1::Frame frame, last;
-  uint64_t frames_total = 0, dropped_total = 0, last_sequence = 0;
+  uint64_t frames_total = 0, skipped_total = 0, last_sequence = 0;
   while (reader->Read(&frame)) {
     const double arrival_s = now_seconds();
     if (frames_total > 0 && frame.sequence() > last_sequence + 1) {
-      window.dropped += frame.sequence() - last_sequence - 1;
-      dropped_total += frame.sequence() - last_sequence - 1;
+      window.skipped += frame.sequence() - last_sequence - 1;
+      skipped_total += frame.sequence() - last_sequence - 1;
     }
     last_sequence = frame.sequence();
+    if (frames_total == 0) print_stream_note(context);
     ++frames_total;
     ++window.frames;
     window.latencies_ms.push_back(frame.latency_ms());
@@ -88,7 +95,7 @@ int watch_command(const std::vector<std::string>& argv) {
     last = std::move(frame);
     const double seconds = std::chrono::duration<double>(Clock::now() - window_start).count();
     if (seconds >= 1) {
-      const std::string text = line(request.view(), window, seconds, last, dropped_total);
+      const std::string text = line(request.view(), window, seconds, last, skipped_total);
       std::cout << (tty ? "\r\033[K" + text : text + "\n") << std::flush;
       window.clear();
       window_start = Clock::now();
@@ -96,12 +103,15 @@ int watch_command(const std::vector<std::string>& argv) {
   }
   const grpc::Status status = reader->Finish();
   if (tty && frames_total > 0) std::cout << "\n";
-  if (!(stopper.stopped() && status.error_code() == grpc::StatusCode::CANCELLED)) {
-    connection.check(status, "view '" + request.view() + "'");
+  const bool failed = !status.ok() && !(stopper.stopped() && status.error_code() == grpc::StatusCode::CANCELLED);
+  // The summary also when the stream failed (daemon shutting down, view deleted), then why.
+  if (frames_total > 0 || !failed) {
+    const double total_s = std::chrono::duration<double>(Clock::now() - start).count();
+    std::cout << frames_total << " frames in " << fixed(total_s, 1) << " s (" << fixed(frames_total / total_s, 1)
+              << " fps), " << summary_of_skips(skipped_total, request.max_rate_hz() > 0) << "\n"
+              << std::flush;
   }
-  const double total_s = std::chrono::duration<double>(Clock::now() - start).count();
-  std::cout << frames_total << " frames in " << fixed(total_s, 1) << " s (" << fixed(frames_total / total_s, 1)
-            << " fps), " << dropped_total << " dropped\n";
+  if (failed) connection.check(status, "view '" + request.view() + "'");
   return 0;
 }
 

@@ -79,6 +79,15 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision) {
   map.fusion = spec.fusion;
   const size_t n = static_cast<size_t>(map.width) * static_cast<size_t>(map.height);
   const bool exact = blend || precision == MapPrecision::kExact || map.width < 2 || map.height < 2;
+  if (cameras.empty()) {
+    // A rig whose cameras are not known yet (a robot that has not answered): all black.
+    map.primary.assign(n, kBlackEntry);
+    if (blend) {
+      map.secondary.assign(n, kBlackEntry);
+      map.primary_weight.assign(n, 256);
+    }
+    return map;
+  }
   if (exact) {
     map.primary.assign(n, kBlackEntry);  // the exact builders keep the best candidate so far
   } else {

@@ -1,5 +1,7 @@
 #include "core/view/view_spec.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -64,6 +66,10 @@ ViewSpec default_view_spec(ViewType type) {
 
 void validate(const ViewSpec& s) {
   check(!s.name.empty(), s, "name", "must not be empty");
+  // One word: commands take it as one argument and `omniview render` writes NAME.png.
+  check(std::all_of(s.name.begin(), s.name.end(),
+                    [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'; }),
+        s, "name", "may hold only letters, digits, '_', '-' and '.' (no spaces or '/'), got '" + s.name + "'");
   for (const auto& [field, v] : {std::pair{"width", s.width}, std::pair{"height", s.height}}) {
     check(v >= 1 && v <= kMaxViewSide, s, field,
           "must be between 1 and " + std::to_string(kMaxViewSide) + " pixels, got " + std::to_string(v));
@@ -71,6 +77,10 @@ void validate(const ViewSpec& s) {
   check(s.position.allFinite() && std::isfinite(s.yaw_deg) && std::isfinite(s.pitch_deg) &&
             std::isfinite(s.roll_deg),
         s, "pose", "must be finite");
+  // Beyond straight down (or up) the view would be upside down behind: that is a pan of 180.
+  check(s.pitch_deg >= -90 && s.pitch_deg <= 90, s, "pitch_deg",
+        "(tilt) must be in [-90, 90] (positive looks down), got " + num(s.pitch_deg) +
+            "; to look behind, pan (yaw_deg) by 180");
   switch (s.type) {
     case ViewType::kPerspective:
       check(s.hfov_deg > 0 && s.hfov_deg < 180, s, "hfov_deg",

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/view/view_keys.h"
+
 namespace omniview {
 namespace {
 
@@ -73,6 +75,10 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
       const auto a = r.numbers(pose["ypr_deg"], key("pose.ypr_deg"), 3);
       s.yaw_deg = a[0], s.pitch_deg = a[1], s.roll_deg = a[2];
     }
+  }
+  // A key of another type would be ignored: say so rather than render something else.
+  for (const auto& k : surface_keys()) {
+    if (const auto why = inapplicable_key(k, s.type); n[k] && !why.empty()) r.fail(n[k], key(k.c_str()), why);
   }
   const std::pair<const char*, double*> numbers[] = {
       {"hfov_deg", &s.hfov_deg},         {"distance", &s.distance},       {"height_m", &s.height_m},

@@ -1,6 +1,8 @@
 #include "server/api/omniview_service.h"
 
 #include <chrono>
+#include <iostream>
+#include <sstream>
 
 #include <google/protobuf/util/time_util.h>
 #include <opencv2/imgcodecs.hpp>
@@ -142,6 +144,18 @@ grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::S
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "max_rate_hz must be >= 0 (0: as fast as frames come)");
     }
     const double rate = req->max_rate_hz() == 0 ? limits_.max_rate_hz : std::min(req->max_rate_hz(), limits_.max_rate_hz);
+    // The rate actually served, in the response's initial metadata (and why, when capped).
+    std::ostringstream served;
+    served << rate;
+    ctx->AddInitialMetadata("omniview-max-rate-hz", served.str());
+    if (req->max_rate_hz() > limits_.max_rate_hz) {
+      std::ostringstream text;
+      text << "max_rate_hz " << req->max_rate_hz() << " capped to " << rate << " Hz (the daemon's limits.max_rate_hz)";
+      const std::string note = text.str();
+      ctx->AddInitialMetadata("omniview-note", note);
+      std::cerr << "omniviewd: stream of view '" << req->view() << "' for " << ctx->peer() << ": " << note
+                << std::endl;
+    }
     StreamSlot slot(*this, ctx->peer());
     if (auto s = slot.acquire(); !s.ok()) return s;
     auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, rate);
@@ -196,7 +210,17 @@ grpc::Status OmniviewService::PixelToRay(grpc::ServerContext* ctx, const v1::Pix
                                          v1::PixelToRayResponse* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
   return guarded([&] {
-    *resp = pipeline_.pixel_to_ray(req->view(), req->u(), req->v());
+    // Pixel centres are at integers, so the image spans [-0.5, W - 0.5]; a click outside it
+    // has no ray (the surface would extrapolate one that no camera pixel stands for).
+    const auto spec = pipeline_.get_view(req->view()).spec();
+    const double u = req->u(), v = req->v();
+    if (!(u >= -0.5 && u <= spec.width() - 0.5 && v >= -0.5 && v <= spec.height() - 0.5)) {
+      std::ostringstream m;
+      m << "pixel (" << u << ", " << v << ") is outside view '" << req->view() << "' (" << spec.width() << "x"
+        << spec.height() << ": u in [-0.5, " << spec.width() - 0.5 << "], v in [-0.5, " << spec.height() - 0.5 << "])";
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, m.str());
+    }
+    *resp = pipeline_.pixel_to_ray(req->view(), u, v);
     return grpc::Status::OK;
   });
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <iostream>
 
 namespace omniview {
 namespace {
@@ -81,7 +82,33 @@ grpc::Status Authenticator::check(const grpc::ServerContext& ctx, Role needed, C
   std::vector<std::string_view> values;
   const auto [begin, end] = ctx.client_metadata().equal_range("authorization");
   for (auto it = begin; it != end; ++it) values.emplace_back(it->second.data(), it->second.size());
-  return check_header(values, needed, caller);
+  Caller who;
+  const grpc::Status status = check_header(values, needed, &who);
+  if (status.error_code() == grpc::StatusCode::PERMISSION_DENIED && values.size() == 1) {
+    if (const auto token = bearer_token(values.front())) {
+      if (const TokenConfig* match = find(*token)) who.label = match->label;
+    }
+  }
+  if (enabled()) log(ctx, status, who);
+  if (caller && status.ok()) *caller = who;
+  return status;
+}
+
+void Authenticator::log(const grpc::ServerContext& ctx, const grpc::Status& status, const Caller& caller) const {
+  const std::string peer = ctx.peer();
+  if (!status.ok()) {
+    std::cerr << "omniviewd: refused a call from " << peer
+              << (caller.label.empty() ? "" : " with " + caller.label) << ": " << status.error_message() << std::endl;
+    return;
+  }
+  // Once per peer and token: a joystick's 30 updates a second would drown the log.
+  {
+    std::lock_guard lock(logged_mutex_);
+    if (logged_.size() > 4096) logged_.clear();  // bounded, whatever the number of clients
+    if (!logged_.insert(peer + "|" + caller.label).second) return;
+  }
+  std::cerr << "omniviewd: " << peer << " authenticated with " << caller.label << " (" << to_string(caller.role)
+            << ")" << std::endl;
 }
 
 }  // namespace omniview

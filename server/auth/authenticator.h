@@ -4,7 +4,9 @@
 // operator (the config only allows that on loopback, or with allow_insecure_remote).
 #pragma once
 
+#include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,7 +33,8 @@ class Authenticator {
   bool enabled() const { return !tokens_.empty(); }
 
   // OK, UNAUTHENTICATED or PERMISSION_DENIED for a call that needs `needed`; `caller`
-  // (optional) receives the identity on success.
+  // (optional) receives the identity on success. With tokens configured, logs each refusal
+  // and a peer's first call with each token, by the token's label: never its value.
   grpc::Status check(const grpc::ServerContext& ctx, Role needed, Caller* caller = nullptr) const;
 
   // The same decision from the `authorization` header values the call carried (none,
@@ -43,7 +46,10 @@ class Authenticator {
 
  private:
   const TokenConfig* find(std::string_view token) const;
+  void log(const grpc::ServerContext& ctx, const grpc::Status& status, const Caller& caller) const;
   std::vector<TokenConfig> tokens_;
+  mutable std::mutex logged_mutex_;
+  mutable std::set<std::string> logged_;  // "peer|label" already logged as authenticated
 };
 
 // The token in "Bearer <token>" (scheme case-insensitive, as RFC 6750 allows); nullopt

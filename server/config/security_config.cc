@@ -9,6 +9,7 @@
 #include <map>
 
 #include "server/config/config_parts.h"
+#include "server/config/tls_files.h"
 
 namespace omniview::config_parts {
 namespace {
@@ -91,6 +92,18 @@ TlsConfig parse_tls(const YamlReader& r, const YAML::Node& n, const std::string&
   tls.cert_file = file_key(r, n, "cert", "tls", folder);
   tls.key_file = file_key(r, n, "key", "tls", folder);
   if (n["client_ca"] && !n["client_ca"].IsNull()) tls.client_ca_file = file_key(r, n, "client_ca", "tls", folder);
+  // The contents too, each error at its own key: a wrong or swapped file otherwise shows
+  // only as "cannot listen" when the daemon starts.
+  if (const auto why = certificate_file_problem(tls.cert_file, "tls.cert"); !why.empty()) {
+    r.fail(n["cert"], "tls.cert", why);
+  }
+  if (const auto why = private_key_file_problem(tls.key_file); !why.empty()) r.fail(n["key"], "tls.key", why);
+  if (const auto why = key_pair_problem(tls.cert_file, tls.key_file); !why.empty()) r.fail(n["key"], "tls.key", why);
+  if (!tls.client_ca_file.empty()) {
+    if (const auto why = certificate_file_problem(tls.client_ca_file, "tls.client_ca"); !why.empty()) {
+      r.fail(n["client_ca"], "tls.client_ca", why);
+    }
+  }
   return tls;
 }
 

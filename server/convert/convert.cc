@@ -1,9 +1,11 @@
 #include "server/convert/convert.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "core/camera/camera_model.h"
+#include "core/view/view_keys.h"
 #include "core/view/pinhole_view.h"
 
 namespace omniview {
@@ -105,6 +107,27 @@ v1::ViewSpec to_proto(const ViewSpec& s) {
   return p;
 }
 
+namespace {
+
+// A surface key of another type would change nothing visible: refuse it, naming key and
+// type. A key that keeps its value passes, so that a full spec (GetView's, changed and sent
+// back) is accepted as it stands.
+void reject_inapplicable_changes(const v1::ViewSpec& patch, const ViewSpec& before, const ViewSpec& after) {
+  const auto* descriptor = patch.GetDescriptor();
+  const auto* reflection = patch.GetReflection();
+  const v1::ViewSpec old_values = to_proto(before);
+  for (const auto& key : surface_keys()) {
+    const auto* field = descriptor->FindFieldByName(key);
+    if (!field || !reflection->HasField(patch, field)) continue;
+    if (reflection->GetDouble(patch, field) == reflection->GetDouble(old_values, field)) continue;
+    if (const auto why = inapplicable_key(key, after.type); !why.empty()) {
+      throw std::invalid_argument("view '" + after.name + "': " + why);
+    }
+  }
+}
+
+}  // namespace
+
 ViewSpec spec_from_proto(const v1::ViewSpec& request) {
   if (!request.has_type()) {
     throw std::invalid_argument("view '" + request.name() +
@@ -117,6 +140,7 @@ ViewSpec spec_from_proto(const v1::ViewSpec& request) {
 }
 
 void apply_patch(const v1::ViewSpec& p, ViewSpec& s) {
+  const ViewSpec before = s;
   const std::string what = "view '" + (p.has_name() ? p.name() : s.name) + "'";
   if (p.has_name()) s.name = p.name();
   if (p.has_type()) s.type = from_proto(p.type(), what);
@@ -145,6 +169,7 @@ void apply_patch(const v1::ViewSpec& p, ViewSpec& s) {
     if ((p.*has)()) *get_and_field.second = (p.*(get_and_field.first))();
   }
   if (p.has_fusion()) s.fusion = from_proto(p.fusion(), what);
+  reject_inapplicable_changes(p, before, s);
 }
 
 double hfov_from_zoom(double zoom) { return 2 * std::atan(1.0 / zoom) * 180 / M_PI; }
@@ -154,8 +179,10 @@ void apply_delta(const v1::ViewDelta& d, ViewSpec& s) {
   s.yaw_deg += d.yaw_deg();
   s.pitch_deg += d.pitch_deg();
   s.roll_deg += d.roll_deg();
-  // Keep pan in (-180, 180] so repeated joystick steps do not grow without bound.
+  // Keep pan in (-180, 180] so repeated joystick steps do not grow without bound, and stop
+  // tilt at straight down or up (a joystick held down must not flip the view over).
   s.yaw_deg = std::remainder(s.yaw_deg, 360.0);
+  if (d.pitch_deg() != 0) s.pitch_deg = std::clamp(s.pitch_deg, -90.0, 90.0);
   const double zoom = d.zoom();
   if (zoom == 0 || zoom == 1) return;
   if (!(zoom > 0) || !std::isfinite(zoom)) {
@@ -171,7 +198,7 @@ void apply_delta(const v1::ViewDelta& d, ViewSpec& s) {
       break;
     default:
       throw std::invalid_argument("view '" + s.name + "': zoom applies to perspective, birdseye and fisheye views, not " +
-                                  to_string(s.type));
+                                  to_string(s.type) + " (narrow a panorama with azimuth_span_deg instead)");
   }
 }
 

@@ -19,7 +19,7 @@ std::string with_port(const std::string& listen, int port) {
 
 }  // namespace
 
-Daemon::Daemon(const DaemonConfig& config) : config_(config) {
+Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
   const YamlReader& reader = *config_.reader;
   PipelineLimits limits;
   limits.max_view_pixels = config_.limits.max_view_pixels;
@@ -51,12 +51,14 @@ Daemon::Daemon(const DaemonConfig& config) : config_(config) {
 
   auth_ = std::make_unique<Authenticator>(config_.tokens);
   service_ = std::make_unique<OmniviewService>(*pipeline_, *auth_, config_.limits);
+  const auto credentials = make_server_credentials(config_.tls);
+  if (!listen) return;
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(config_.listen, make_server_credentials(config_.tls), &port);
+  builder.AddListeningPort(config_.listen, credentials, &port);
   builder.RegisterService(service_.get());
   builder.SetMaxReceiveMessageSize(config_.limits.max_message_bytes);
   builder.SetMaxSendMessageSize(config_.limits.max_message_bytes);
@@ -79,6 +81,8 @@ Daemon::Daemon(const DaemonConfig& config) : config_(config) {
     reader.fail(listen ? listen : reader.root(), "listen",
                 "cannot listen on '" + config_.listen + "' (address in use, or not an address of this machine?)");
   }
+  // Health by service name too (grpc_health_probe -service=omniview.v1.Omniview).
+  server_->GetHealthCheckService()->SetServingStatus(v1::Omniview::service_full_name(), true);
   address_ = with_port(config_.listen, port);
   pipeline_->start();
 }

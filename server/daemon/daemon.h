@@ -16,10 +16,12 @@ namespace omniview {
 
 class Daemon {
  public:
-  // Creates the sources and the configured views, and starts listening. Throws ConfigError
-  // naming the file, line and key for anything the config asks that cannot be done (a
-  // source that cannot start, a view its rig cannot serve, an address in use).
-  explicit Daemon(const DaemonConfig& config);
+  // Creates the sources, the configured views and the TLS credentials, and starts
+  // listening. Throws ConfigError naming the file, line and key for anything the config
+  // asks that cannot be done (a source that cannot start, a view its rig cannot serve, an
+  // address in use). With `listen` false (omniviewd --check) it stops before listening:
+  // everything that could fail at start but the address has then been tried.
+  explicit Daemon(const DaemonConfig& config, bool listen = true);
   ~Daemon();
 
   // The address actually listened on (a config port of 0 picks a free one: tests).

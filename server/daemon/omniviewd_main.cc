@@ -12,11 +12,13 @@
 #include "server/daemon/daemon.h"
 #include "server/source/source_registry.h"
 #include "server/sources/builtin_sources.h"
+#include "spot_adapter/source/spot_source.h"
 
 namespace {
 
 void print_help() {
   std::cout << "usage: omniviewd --config FILE.yaml [--listen HOST:PORT] [--ready-file FILE] [--check]\n"
+               "       omniviewd --version\n"
                "\n"
                "Serves live virtual views (perspective, bird's-eye, panoramas, fisheye) fused from a\n"
                "robot's cameras over gRPC (omniview.v1; grpc.health.v1 and reflection included).\n"
@@ -24,7 +26,9 @@ void print_help() {
                "  --config FILE       daemon config (commented example: config/omniviewd.yaml)\n"
                "  --listen HOST:PORT  overrides the config's listen address (port 0: pick a free one)\n"
                "  --ready-file FILE   once serving, write the address listened on to FILE\n"
-               "  --check             load and check the config, then exit (0: fine)\n"
+               "  --check             load the config, create its sources, views and TLS credentials\n"
+               "                      as a start would (without listening), then exit (0: fine)\n"
+               "  --version           the version\n"
                "  --help              this text\n"
                "\n"
                "Source types:\n";
@@ -38,6 +42,7 @@ void print_help() {
 
 int main(int argc, char** argv) {
   omniview::register_builtin_sources();
+  omniview::spot::register_spot_source();
   std::string config_file, listen, ready_file;
   bool check_only = false;
   for (int i = 1; i < argc; ++i) {
@@ -51,6 +56,9 @@ int main(int argc, char** argv) {
     };
     if (arg == "--help" || arg == "-h") {
       print_help();
+      return 0;
+    } else if (arg == "--version") {
+      std::cout << "omniviewd " << OMNIVIEW_VERSION << "\n";  // the project version, from CMake
       return 0;
     } else if (arg == "--config") {
       config_file = value();
@@ -84,6 +92,8 @@ int main(int argc, char** argv) {
     omniview::DaemonConfig config = omniview::load_daemon_config(config_file);
     if (!listen.empty()) config.listen = listen;
     if (check_only) {
+      // Everything the real start does but listening: sources, views, TLS credentials.
+      omniview::Daemon daemon(config, /*listen=*/false);
       std::cout << config_file << ": OK (" << config.sources.size() << " sources, " << config.views.size()
                 << " views)\n";
       return 0;

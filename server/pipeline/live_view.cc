@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "server/pipeline/rate_average.h"
+
 namespace omniview {
 
 void LiveView::add_subscriber(std::shared_ptr<Subscriber> s) {
@@ -40,7 +42,7 @@ void LiveView::record_frame(double latency_ms, std::chrono::steady_clock::time_p
   stats_.last_latency_ms = latency_ms;
   if (stats_.last_frame.time_since_epoch().count() != 0) {
     const double dt = std::chrono::duration<double>(now - stats_.last_frame).count();
-    if (dt > 0) stats_.fps = stats_.fps == 0 ? 1 / dt : 0.9 * stats_.fps + 0.1 / dt;
+    stats_.fps = add_interval(stats_.mean_interval_s, dt, 0.1);
   }
   stats_.last_frame = now;
 }

@@ -36,7 +36,8 @@ struct ViewStats {
   uint64_t frames = 0;
   uint64_t map_rebuilds = 0;
   double last_map_build_ms = 0;
-  double fps = 0;  // exponentially averaged
+  double fps = 0;  // 1 / the exponentially averaged frame interval
+  double mean_interval_s = 0;
   double last_latency_ms = 0;
   std::chrono::steady_clock::time_point last_frame{};
 };

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "server/pipeline/rate_average.h"
+
 namespace omniview {
 
 void FrameSetTap::offer(std::shared_ptr<const FrameSet> frames) {
@@ -50,7 +52,7 @@ void SourceChannel::deliver(std::shared_ptr<const FrameSet> frames) {
     const auto now = frames->arrival;
     if (stats_.last_arrival.time_since_epoch().count() != 0) {
       const double dt = std::chrono::duration<double>(now - stats_.last_arrival).count();
-      if (dt > 0) stats_.rate_hz = stats_.rate_hz == 0 ? 1 / dt : 0.8 * stats_.rate_hz + 0.2 / dt;
+      stats_.rate_hz = add_interval(stats_.mean_interval_s, dt, 0.2);
     }
     stats_.last_arrival = now;
     ++stats_.frames;

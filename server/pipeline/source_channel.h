@@ -39,7 +39,8 @@ class FrameSetTap {
 struct SourceStats {
   uint64_t frames = 0;    // frame sets received
   uint64_t dropped = 0;   // replaced in the slot before the worker took them
-  double rate_hz = 0;     // exponentially averaged
+  double rate_hz = 0;     // 1 / the exponentially averaged interval
+  double mean_interval_s = 0;
   std::chrono::steady_clock::time_point last_arrival{};
 };
 

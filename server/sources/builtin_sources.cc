@@ -15,7 +15,8 @@ void register_builtin_sources() {
                          "images {camera: file}, rate_hz)",
                          make_images_source);
     register_source_type("replay",
-                         "plays back a recording made by `omniview record` (keys: recording, rate_hz, speed, loop)",
+                         "plays back a recording made by `omniview record` (keys: recording, rate_hz, speed, loop; "
+                         "speed multiplies the recorded timing or rate_hz)",
                          make_replay_source);
   });
 }

@@ -243,14 +243,42 @@ TEST_F(AgainstFake, StreamWritesFramesAndAnIndex) {
   EXPECT_EQ(lines[5].rfind("frame_000005.png,6,", 0), 0u) << lines[5];  // sequence 5 was skipped
 }
 
-TEST_F(AgainstFake, WatchPrintsRatesAndDrops) {
+TEST_F(AgainstFake, StreamRefusesAFolderWithFilesUnlessForced) {
+  const auto out = dir_ / "used";
+  fs::create_directories(out);
+  std::ofstream(out / "frames.csv") << "another run\n";
+  auto r = omniview("stream front --frames 2 -o " + out.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r.output, "is not empty")) << r.output;
+  EXPECT_TRUE(has(r.output, "--force")) << r.output;
+  EXPECT_EQ(read(out / "frames.csv"), "another run\n");
+  r = omniview("stream front --frames 2 --force -o " + out.string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has(r.output, "wrote 2 frames")) << r.output;
+}
+
+TEST_F(AgainstFake, ConnectionOptionsMayComeBeforeTheCommand) {
+  auto r = run("--server " + fake_.address() + " views list");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has(r.output, "front")) << r.output;
+  r = run("--server=" + fake_.address() + " --timeout 5 status");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = run("--frames 3 status");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r.output, "only connection options may come first")) << r.output;
+  r = run("--server " + fake_.address());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r.output, "missing COMMAND")) << r.output;
+}
+
+TEST_F(AgainstFake, WatchPrintsRatesAndSkips) {
   const auto r = omniview("watch front --duration 2.5");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(has(r.output, "fps  latency p50")) << r.output;
   EXPECT_TRUE(has(r.output, "64x32 RGB JPEG")) << r.output;
-  EXPECT_TRUE(has(r.output, "dropped")) << r.output;
+  EXPECT_TRUE(has(r.output, "skipped")) << r.output;
   EXPECT_TRUE(has(r.output, " frames in ")) << r.output;
-  EXPECT_FALSE(has(r.output, ", 0 dropped")) << r.output;  // the fake skips every fifth
+  EXPECT_FALSE(has(r.output, ", 0 source frames skipped")) << r.output;  // the fake skips every fifth
 }
 
 TEST_F(AgainstFake, StatusAndCameras) {
@@ -322,7 +350,7 @@ TEST_F(AgainstFakeWithTokens, Tokens) {
   EXPECT_EQ(secured("views list --token-file " + viewer).exit_code, 0);
   r = secured("views delete front --token-file " + viewer);
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_TRUE(has(r.output, "needs an operator token")) << r.output;
+  EXPECT_TRUE(has(r.output, "pass an operator token with --token-file")) << r.output;
   EXPECT_EQ(run("views delete front --server " + secured_.address() + " --token-file " + write("op.token", "op-secret"))
                 .exit_code,
             0);

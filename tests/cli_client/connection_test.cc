@@ -88,6 +88,15 @@ TEST_F(ConnectionFlags, TlsServerNameNeedsCa) {
   EXPECT_EQ(o.tls_server_name, "robot");
 }
 
+TEST_F(ConnectionFlags, ClientCertificateNeedsItsKeyAndACa) {
+  EXPECT_THROW(parse({"--tls-ca", "ca.pem", "--tls-cert", "c.pem"}), UsageError);
+  EXPECT_THROW(parse({"--tls-ca", "ca.pem", "--tls-key", "k.pem"}), UsageError);
+  EXPECT_THROW(parse({"--tls-cert", "c.pem", "--tls-key", "k.pem"}), UsageError);
+  const auto o = parse({"--tls-ca", "ca.pem", "--tls-cert", "c.pem", "--tls-key", "k.pem"});
+  EXPECT_EQ(o.tls_cert_file, "c.pem");
+  EXPECT_EQ(o.tls_key_file, "k.pem");
+}
+
 TEST(CommandArgs, ShortFlagsAndHelp) {
   const auto args = parse_command_args({"front", "-o", "out.png", "--gray"}, {"gray"}, {"output"}, "help text");
   ASSERT_TRUE(args);

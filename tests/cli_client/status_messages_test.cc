@@ -24,6 +24,29 @@ TEST(StatusMessages, Unavailable) {
   EXPECT_TRUE(has(m, "failed to connect to all addresses")) << m;
 }
 
+TEST(StatusMessages, UnavailableFromTheDaemonSaysWhy) {
+  const auto down = say(StatusCode::UNAVAILABLE, "omniviewd is shutting down");
+  EXPECT_TRUE(has(down, "omniviewd at robot:50051 is shutting down")) << down;
+  EXPECT_FALSE(has(down, "cannot reach")) << down;
+  const std::string stalled = "no frame of view 'front' within 5000 ms: source 'spot' is not delivering images";
+  EXPECT_EQ(say(StatusCode::UNAVAILABLE, stalled), stalled);  // named once, not "view 'front': ... view 'front'"
+}
+
+TEST(StatusMessages, MissingClientCertificate) {
+  CallContext tls = kCall;
+  tls.tls = true;
+  const auto m = say(StatusCode::UNAVAILABLE,
+                     "failed to connect to all addresses; last error: UNKNOWN: ipv4:127.0.0.1:5: "
+                     "error:0A00045C:SSL routines::tlsv13 alert certificate required",
+                     tls);
+  EXPECT_TRUE(has(m, "requires a client certificate and none was given")) << m;
+  EXPECT_TRUE(has(m, "--tls-cert FILE --tls-key FILE")) << m;
+  // Any other TLS failure still mentions client certificates among the things to check.
+  const auto other = say(StatusCode::UNAVAILABLE, "failed to connect to all addresses", tls);
+  EXPECT_TRUE(has(other, "cannot reach")) << other;
+  EXPECT_TRUE(has(other, "--tls-cert")) << other;
+}
+
 TEST(StatusMessages, UnauthenticatedNamesWhereTokensComeFrom) {
   CallContext no_token = kCall;
   no_token.has_token = false;
@@ -37,9 +60,10 @@ TEST(StatusMessages, UnauthenticatedNamesWhereTokensComeFrom) {
 }
 
 TEST(StatusMessages, PermissionDeniedAsksForAnOperatorToken) {
-  const auto m = say(StatusCode::PERMISSION_DENIED, "viewer tokens cannot change views");
-  EXPECT_TRUE(has(m, "operator token")) << m;
-  EXPECT_TRUE(has(m, "viewer tokens cannot change views")) << m;
+  const auto m = say(StatusCode::PERMISSION_DENIED, "this call needs the operator role; the token given is a viewer token");
+  EXPECT_TRUE(has(m, "operator token with --token-file")) << m;
+  EXPECT_TRUE(has(m, "the token given is a viewer token")) << m;
+  EXPECT_EQ(m.find("operator", m.find("operator") + 1), m.find("operator token with"));  // one hint, not two
 }
 
 TEST(StatusMessages, NotFoundPassesTheServersMessage) {
@@ -55,7 +79,12 @@ TEST(StatusMessages, DeadlineNamesTheTimeout) {
 
 TEST(StatusMessages, OtherCodes) {
   EXPECT_TRUE(has(say(StatusCode::INVALID_ARGUMENT, "hfov_deg: must be in (0, 180)"), "view 'front': hfov_deg"));
-  EXPECT_TRUE(has(say(StatusCode::ALREADY_EXISTS, "view 'front' exists"), "views update"));
+  EXPECT_TRUE(has(say(StatusCode::ALREADY_EXISTS, ""), "views update"));
+  // The daemon's own advice is not repeated in other words.
+  EXPECT_EQ(say(StatusCode::ALREADY_EXISTS, "a view named 'front' exists already (update it, or delete it first)"),
+            "a view named 'front' exists already (update it, or delete it first)");
+  EXPECT_EQ(say(StatusCode::INVALID_ARGUMENT, "view 'front': hfov_deg must be in (0, 180)"),
+            "view 'front': hfov_deg must be in (0, 180)");
   EXPECT_TRUE(has(say(StatusCode::RESOURCE_EXHAUSTED, "too many streams"), "too many streams"));
   EXPECT_TRUE(has(say(StatusCode::UNIMPLEMENTED, ""), "older version"));
   EXPECT_TRUE(has(say(StatusCode::INTERNAL, "boom"), "omniviewd failed (boom)"));

@@ -135,21 +135,21 @@ TEST(ViewSpecConversion, RoundTripsThroughTheProto) {
   s.position = Vec3(1, 2, 3);
   s.lat_min_deg = -30;
   s.fusion = Fusion::kBlend;
-  const ViewSpec back = from_proto(to_proto(s));
+  const ViewSpec back = spec_from_proto(to_proto(s));
   EXPECT_EQ(back.name, "pano");
   EXPECT_EQ(back.type, ViewType::kEquirectangular);
   EXPECT_EQ(back.width, 2048);
   EXPECT_DOUBLE_EQ(back.position.y(), 2);
   EXPECT_DOUBLE_EQ(back.lat_min_deg, -30);
   EXPECT_EQ(back.fusion, Fusion::kBlend);
-  for (int t = 0; t < 6; ++t) EXPECT_EQ(from_proto(to_proto(static_cast<ViewType>(t))), static_cast<ViewType>(t));
+  for (int t = 0; t < 6; ++t) EXPECT_EQ(from_proto(to_proto(static_cast<ViewType>(t)), "t"), static_cast<ViewType>(t));
   EXPECT_EQ(to_proto(ViewType::kPerspective), v1::PERSPECTIVE);
   EXPECT_EQ(to_proto(ViewType::kFisheye), v1::FISHEYE);
-  EXPECT_THROW(from_proto(v1::VIEW_TYPE_UNSPECIFIED), std::invalid_argument);
+  EXPECT_THROW(from_proto(v1::VIEW_TYPE_UNSPECIFIED, "t"), std::invalid_argument);
   // Unset fields take the type's defaults.
   v1::ViewSpec birdseye;
   birdseye.set_type(v1::BIRDSEYE);
-  EXPECT_DOUBLE_EQ(from_proto(birdseye).pitch_deg, 90);
+  EXPECT_DOUBLE_EQ(spec_from_proto(birdseye).pitch_deg, 90);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <filesystem>
+
 #include "server/config/daemon_config.h"
 #include "test_support.h"
 
@@ -24,6 +26,17 @@ class SecurityConfig : public ::testing::Test {
   // A config whose tokens list starts on line 4.
   void expect_token_error(const std::string& entries, std::initializer_list<std::string> needles) {
     expect_error(std::string(kSources) + "tokens:\n" + entries, needles);
+  }
+  // Real test certificates (scripts/make-test-certs.sh) as s.crt, s.key and ca.crt in the
+  // folder, and a second set under other/: the TLS files are read when the config loads.
+  void write_certificates() {
+    for (const std::string sub : {"", "other"}) {
+      const std::string command =
+          "bash " OMNIVIEW_SOURCE_DIR "/scripts/make-test-certs.sh '" + (dir_ / sub) + "' > /dev/null";
+      ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    }
+    std::filesystem::copy_file(dir_ / "server.crt", dir_ / "s.crt");
+    std::filesystem::copy_file(dir_ / "server.key", dir_ / "s.key");
   }
   testing::TempDir dir_;
 };
@@ -104,9 +117,7 @@ TEST_F(SecurityConfig, Roles) {
 }
 
 TEST_F(SecurityConfig, TlsFilesMustBeReadable) {
-  dir_.write("s.crt", "cert");
-  dir_.write("s.key", "key");
-  dir_.write("ca.crt", "ca");
+  write_certificates();
   const std::string base = std::string(kSources) + "tls:\n";  // tls keys from line 4
   auto config = parse(base + "  cert: s.crt\n  key: s.key\n");
   ASSERT_TRUE(config.tls);
@@ -126,9 +137,26 @@ TEST_F(SecurityConfig, TlsFilesMustBeReadable) {
   expect_error(base + "  cert: s.crt\n  key: s.key\n  ca: ca.crt\n", {"d.yaml:6: tls.ca: unknown key", "client_ca"});
 }
 
+TEST_F(SecurityConfig, TlsFilesAreCheckedWhenTheConfigLoads) {
+  write_certificates();
+  dir_.write("text.crt", "not a certificate\n");
+  const std::string base = std::string(kSources) + "tls:\n";  // tls keys from line 4
+  // A key from another pair: named at tls.key, with both files.
+  expect_error(base + "  cert: s.crt\n  key: other/server.key\n",
+               {"d.yaml:5: tls.key: the private key in '" + (dir_ / "other/server.key") +
+                    "' does not belong to the certificate in '" + (dir_ / "s.crt") + "'"});
+  // Swapped: the first file read names the config line and says what happened.
+  expect_error(base + "  cert: s.key\n  key: s.crt\n",
+               {"d.yaml:4: tls.cert:", "holds no PEM certificate", "are tls.cert and tls.key swapped?"});
+  expect_error(base + "  cert: s.crt\n  key: ca.crt\n",
+               {"d.yaml:5: tls.key:", "holds no unencrypted PEM private key", "swapped?"});
+  expect_error(base + "  cert: text.crt\n  key: s.key\n", {"d.yaml:4: tls.cert:", "text.crt' holds no PEM certificate"});
+  expect_error(base + "  cert: s.crt\n  key: s.key\n  client_ca: ca.key\n",
+               {"d.yaml:6: tls.client_ca:", "holds no PEM certificate", "never belongs in tls.client_ca"});
+}
+
 TEST_F(SecurityConfig, RemoteListenNeedsTlsAndTokensOrAnExplicitOptOut) {
-  dir_.write("s.crt", "cert");
-  dir_.write("s.key", "key");
+  write_certificates();
   const std::string remote = std::string(kSources) + "listen: 0.0.0.0:50051\n";  // line 3
   const std::string tls = "tls: {cert: s.crt, key: s.key}\n";
   const std::string tokens = "tokens: [{role: viewer, token: abc}]\n";

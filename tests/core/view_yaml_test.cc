@@ -31,6 +31,20 @@ TEST(ViewYaml, RangeErrorsNameTheLineOfTheKey) {
                {"list.yaml:5: views[1].vfov_deg: view 'b': vfov_deg"});
 }
 
+TEST(ViewYaml, KeysOfAnotherViewTypeAreErrors) {
+  expect_error("fov.yaml", "name: pano\ntype: equirectangular\nfov_deg: 120\n",
+               {"fov.yaml:3: fov_deg: fov_deg does not apply to equirectangular views",
+                "their keys: radius, azimuth_span_deg, lat_min_deg, lat_max_deg"});
+  expect_error("hfov.yaml", "type: fisheye\nhfov_deg: 90\n", {"hfov.yaml:2: hfov_deg:", "fisheye views"});
+  expect_error("list.yaml", "views:\n  - {name: a, type: perspective, radius: 3}\n",
+               {"list.yaml:2: views[0].radius: radius does not apply to perspective views"});
+}
+
+TEST(ViewYaml, NamesAreOneWordAndTiltStaysWithinStraightDownAndUp) {
+  expect_error("name.yaml", "name: my view\ntype: perspective\n", {"name.yaml:", "no spaces"});
+  expect_error("tilt.yaml", "type: perspective\npose: {ypr_deg: [0, 100, 0]}\n", {"tilt.yaml:", "[-90, 90]"});
+}
+
 TEST(ViewYaml, RepeatedNamesNameBothViews) {
   expect_error("dup.yaml",
                "views:\n  - {name: a, type: perspective}\n  - {name: b, type: perspective}\n"

@@ -132,19 +132,6 @@ Rig with_camera_pose(const Rig& rig, const std::string& name, const Pose& T_pare
   return out;
 }
 
-Rig spot_like_rig() {
-  // Spot's front pair cross (frontleft looks front-right) and stand rolled by about 90 deg;
-  // the side and back cameras look out and down; the right one is mounted upside down.
-  Rig rig("body");
-  const auto pinhole = [] { return CameraModel(PinholeRadtan(330, 330, 319.5, 239.5)); };
-  rig.add_camera(camera("frontleft", pinhole(), 640, 480, Vec3(0.42, 0.04, 0.02), -35, 25, 78));
-  rig.add_camera(camera("frontright", pinhole(), 640, 480, Vec3(0.42, -0.04, 0.02), 35, 25, 102 - 180));
-  rig.add_camera(camera("left", pinhole(), 640, 480, Vec3(-0.05, 0.11, 0.03), 90, 30, 0));
-  rig.add_camera(camera("right", pinhole(), 640, 480, Vec3(-0.05, -0.11, 0.03), -90, 30, 180));
-  rig.add_camera(camera("back", pinhole(), 640, 480, Vec3(-0.43, 0, 0.03), 180, 30, 0));
-  return rig;
-}
-
 Rig mixed_model_ring() {
   Rig rig;
   RadtanDistortion d;

@@ -11,6 +11,7 @@
 #include "core/map/fusion_map.h"
 #include "core/rig/rig.h"
 #include "core/synthetic/scene.h"
+#include "core/synthetic/spot_like_rig.h"
 #include "core/view/view_spec.h"
 
 namespace omniview::golden {
@@ -64,9 +65,9 @@ Rig example_rig();
 ViewSpec example_panorama(int width, int height);
 Rig with_camera_pose(const Rig& rig, const std::string& name, const Pose& T_parent_cam);
 
-// Five greyscale 640x480 pinholes placed like Spot's body cameras, in frame "body"
-// 0.5 m above the ground.
-Rig spot_like_rig();
+// Five greyscale 640x480 pinholes placed like Spot's body cameras, in frame "body" (the
+// tests put the ground 0.5 m below it). Shared with spot-mock.
+using synthetic::spot_like_rig;
 
 // Five cameras around and above a point 1 m over base_link, one per model: omni+radtan,
 // double sphere, EUCM, FOV, pinhole+radtan (with k3).

@@ -5,6 +5,9 @@
 
 #include <cmath>
 
+#include <opencv2/core.hpp>
+
+#include "core/map/apply.h"
 #include "core/map/fusion_map.h"
 #include "core/rig/rig.h"
 #include "core/view/view.h"
@@ -118,6 +121,25 @@ TEST(AdaptiveMap, TinyViews) {
   const Rig rig = dual_fisheye(false);
   for (auto [w, h] : {std::pair{1, 1}, std::pair{2, 2}, std::pair{9, 1}, std::pair{1, 17}, std::pair{10, 9}}) {
     expect_agreement(rig, spec(ViewType::kPerspective, w, h));
+  }
+}
+
+// A robot that has not answered yet has a rig without cameras: its views are black, and
+// building their maps must not read a camera that is not there.
+TEST(AdaptiveMap, RigWithoutCamerasGivesABlackView) {
+  Rig rig("body");
+  rig.add_frame("footprint", "body", Pose::Identity());
+  for (const Fusion fusion : {Fusion::kNearestCentre, Fusion::kBlend}) {
+    ViewSpec s = spec(ViewType::kPerspective, 64, 32);
+    s.frame = "body";
+    s.fusion = fusion;
+    const FusionMap map = build_map(rig, *View::create(s));
+    EXPECT_TRUE(map.camera_used.empty());
+    ASSERT_EQ(map.primary.size(), 64u * 32u);
+    for (const auto& e : map.primary) EXPECT_EQ(e.cam, kNoCamera);
+    cv::Mat out;
+    apply_map(map, {}, out, 1);
+    EXPECT_EQ(cv::countNonZero(out), 0);
   }
 }
 

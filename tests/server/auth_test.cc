@@ -71,7 +71,12 @@ TEST(Auth, RolesDecideWhatACallerMayDo) {
   EXPECT_TRUE(stub->UpdateView(make_context("operator-secret-456").get(), update, &view).ok());
   EXPECT_TRUE(stub->DeleteView(make_context("operator-secret-456").get(), del, &deleted).ok());
 
-  EXPECT_EQ(daemon.log().find("secret"), std::string::npos) << daemon.log();
+  const std::string log = daemon.log();
+  EXPECT_EQ(log.find("secret"), std::string::npos) << log;
+  // Who was let in and who was refused, by the tokens' labels.
+  EXPECT_NE(log.find("authenticated with tokens[1] (inline) (operator)"), std::string::npos) << log;
+  EXPECT_NE(log.find("with tokens[0] (inline): this call needs the operator role"), std::string::npos) << log;
+  EXPECT_NE(log.find(": unknown token"), std::string::npos) << log;
 }
 
 std::string read_file(const std::filesystem::path& p) {
@@ -110,6 +115,34 @@ TEST(Auth, TlsWithATestCaAndClientCertificates) {
 
   auto plaintext = make_stub(host);
   EXPECT_FALSE(plaintext->ListViews(make_context("viewer-secret-123", std::chrono::seconds(3)).get(), {}, &list).ok());
+
+  // The CLI: without a client certificate it says that one is needed; with one it works.
+  const std::string token = dir.write("viewer.token", "viewer-secret-123\n");
+  const std::string cli = std::string(OMNIVIEW_CLI) + " views list --server " + host + " --tls-ca " +
+                          (certs / "ca.crt").string() + " --token-file " + token + " --timeout 5";
+  const auto refused = run_process(cli);
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("requires a client certificate and none was given"), std::string::npos)
+      << refused.output;
+  EXPECT_NE(refused.output.find("--tls-cert FILE --tls-key FILE"), std::string::npos) << refused.output;
+  const auto with_certificate = run_process(cli + " --tls-cert " + (certs / "client.crt").string() + " --tls-key " +
+                                            (certs / "client.key").string());
+  EXPECT_EQ(with_certificate.exit_code, 0) << with_certificate.output;
+  EXPECT_NE(with_certificate.output.find("front"), std::string::npos) << with_certificate.output;
+
+  // The Python example likewise, its token from OMNIVIEW_TOKEN_FILE.
+  const std::string python = "env -u OMNIVIEW_TOKEN OMNIVIEW_TOKEN_FILE=" + token +
+                             " XDG_CACHE_HOME=" + (dir.path() / "cache").string() + " " + OMNIVIEW_DEBIAN_PYTHON +
+                             " " + OMNIVIEW_SOURCE_DIR + "/examples/python/save_frames.py front --frames 1 -o " +
+                             (dir.path() / "py").string() + " --server " + host + " --tls-ca " +
+                             (certs / "ca.crt").string();
+  const auto py_refused = run_process(python);
+  EXPECT_NE(py_refused.exit_code, 0) << py_refused.output;
+  EXPECT_NE(py_refused.output.find("requires a client certificate"), std::string::npos) << py_refused.output;
+  const auto py = run_process(python + " --tls-cert " + (certs / "client.crt").string() + " --tls-key " +
+                              (certs / "client.key").string());
+  EXPECT_EQ(py.exit_code, 0) << py.output;
+  EXPECT_NE(py.output.find("saved 1 frames"), std::string::npos) << py.output;
 }
 
 }  // namespace

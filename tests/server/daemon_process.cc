@@ -65,15 +65,9 @@ std::string example_config(double rate_hz, const std::string& extra) {
   return s.str();
 }
 
-DaemonProcess::DaemonProcess(const TempDir& dir, const std::string& config_text, std::vector<std::string> extra_args) {
-  static int counter = 0;
-  const std::string tag = std::to_string(++counter);
-  const std::string config = dir.write("omniviewd_" + tag + ".yaml", config_text);
-  const fs::path ready = dir.path() / ("ready_" + tag);
-  log_file_ = dir.path() / ("omniviewd_" + tag + ".log");
-
-  std::vector<std::string> args = {OMNIVIEWD, "--config", config, "--ready-file", ready.string()};
-  for (auto& a : extra_args) args.push_back(std::move(a));
+ServedProcess::ServedProcess(std::string name, std::vector<std::string> args, fs::path log_file,
+                             const fs::path& ready)
+    : name_(std::move(name)), log_file_(std::move(log_file)) {
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -84,38 +78,36 @@ DaemonProcess::DaemonProcess(const TempDir& dir, const std::string& config_text,
   posix_spawn_file_actions_adddup2(&actions, 1, 2);
   const int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) throw std::runtime_error("cannot start " + std::string(OMNIVIEWD));
+  if (rc != 0) throw std::runtime_error("cannot start " + args.front());
 
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
   while (std::chrono::steady_clock::now() < deadline) {
-    if (fs::exists(ready)) {
+    if (fs::exists(ready) && fs::file_size(ready) > 0) {
       std::ifstream(ready) >> address_;
       return;
     }
     int status = 0;
     if (waitpid(pid_, &status, WNOHANG) == pid_) {
       pid_ = -1;
-      ADD_FAILURE() << "omniviewd exited before serving:\n" << log();
-      throw std::runtime_error("omniviewd did not start");
+      ADD_FAILURE() << name_ << " exited before serving:\n" << log();
+      throw std::runtime_error(name_ + " did not start");
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  ADD_FAILURE() << "omniviewd not ready within 20 s:\n" << log();
-  throw std::runtime_error("omniviewd did not start");
+  ADD_FAILURE() << name_ << " not ready within 20 s:\n" << log();
+  throw std::runtime_error(name_ + " did not start");
 }
 
-DaemonProcess::~DaemonProcess() {
+ServedProcess::~ServedProcess() {
   if (pid_ > 0) stop(SIGKILL, std::chrono::seconds(5));
 }
-
-std::string DaemonProcess::log() const {
+std::string ServedProcess::log() const {
   std::ifstream in(log_file_);
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
 }
-
-long DaemonProcess::rss_kb() const {
+long ServedProcess::rss_kb() const {
   std::ifstream in("/proc/" + std::to_string(pid_) + "/status");
   std::string line;
   while (std::getline(in, line)) {
@@ -123,8 +115,7 @@ long DaemonProcess::rss_kb() const {
   }
   return -1;
 }
-
-int DaemonProcess::stop(int sig, std::chrono::seconds timeout) {
+int ServedProcess::stop(int sig, std::chrono::seconds timeout) {
   if (pid_ <= 0) return -1;
   kill(pid_, sig);
   const auto deadline = std::chrono::steady_clock::now() + timeout;
@@ -142,6 +133,36 @@ int DaemonProcess::stop(int sig, std::chrono::seconds timeout) {
   pid_ = -1;
   return -1;
 }
+namespace {
+
+std::vector<std::string> daemon_args(const TempDir& dir, const std::string& config_text, const std::string& tag,
+                                     std::vector<std::string> extra) {
+  const std::string config = dir.write("omniviewd_" + tag + ".yaml", config_text);
+  std::vector<std::string> args = {OMNIVIEWD, "--config", config, "--ready-file",
+                                   (dir.path() / ("ready_" + tag)).string()};
+  for (auto& a : extra) args.push_back(std::move(a));
+  return args;
+}
+
+int next_tag() {
+  static int counter = 0;
+  return ++counter;
+}
+
+}  // namespace
+
+DaemonProcess::DaemonProcess(const TempDir& dir, const std::string& config_text, std::vector<std::string> extra_args)
+    : DaemonProcess(dir, config_text, std::move(extra_args), std::to_string(next_tag())) {}
+
+DaemonProcess::DaemonProcess(const TempDir& dir, const std::string& config_text, std::vector<std::string> extra_args,
+                             const std::string& tag)
+    : ServedProcess("omniviewd", daemon_args(dir, config_text, tag, std::move(extra_args)),
+                    dir.path() / ("omniviewd_" + tag + ".log"), dir.path() / ("ready_" + tag)) {}
+
+
+
+
+
 
 ProcessResult run_process(const std::string& command_line) {
   ProcessResult r;

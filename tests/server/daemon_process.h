@@ -34,12 +34,17 @@ std::string example_dir();
 // `rate_hz`), listening on a free loopback port, followed by `extra` YAML (views, tokens...).
 std::string example_config(double rate_hz = 30, const std::string& extra = "");
 
-class DaemonProcess {
+// A server program started as a child process, its output in `log_file`, that writes the
+// address it serves on into `ready_file` once serving (omniviewd, spot-mock).
+class ServedProcess {
  public:
-  // Starts omniviewd with `config_text` (written into `dir`) and waits until it serves.
-  // Fails the test (and throws) if it exits or does not become ready within 20 s.
-  DaemonProcess(const TempDir& dir, const std::string& config_text, std::vector<std::string> extra_args = {});
-  ~DaemonProcess();
+  // `args`: the program and its arguments. Waits until `ready_file` appears; fails the test
+  // (and throws) if the program exits first or is not ready within 20 s.
+  ServedProcess(std::string name, std::vector<std::string> args, std::filesystem::path log_file,
+                const std::filesystem::path& ready_file);
+  ~ServedProcess();
+  ServedProcess(const ServedProcess&) = delete;
+  ServedProcess& operator=(const ServedProcess&) = delete;
 
   const std::string& address() const { return address_; }
   pid_t pid() const { return pid_; }
@@ -51,9 +56,20 @@ class DaemonProcess {
   int stop(int sig = 15, std::chrono::seconds timeout = std::chrono::seconds(10));
 
  private:
+  std::string name_;
   std::filesystem::path log_file_;
   std::string address_;
   pid_t pid_ = -1;
+};
+
+class DaemonProcess : public ServedProcess {
+ public:
+  // Starts omniviewd with `config_text` (written into `dir`) and waits until it serves.
+  DaemonProcess(const TempDir& dir, const std::string& config_text, std::vector<std::string> extra_args = {});
+
+ private:
+  DaemonProcess(const TempDir& dir, const std::string& config_text, std::vector<std::string> extra_args,
+                const std::string& tag);
 };
 
 // Runs omniviewd to completion (config errors, --check, --help): exit code and output.

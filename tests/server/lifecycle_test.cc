@@ -43,6 +43,41 @@ TEST(Lifecycle, BadConfigsRefuseToStartNamingFileLineAndKey) {
   EXPECT_NE(missing.output.find("/nonexistent/omniviewd.yaml"), std::string::npos);
 }
 
+TEST(Lifecycle, CheckFailsWhereAStartWouldFail) {
+  TempDir dir;
+  const auto certs = dir.path() / "certs";
+  const auto other = dir.path() / "other";
+  for (const auto& d : {certs, other}) {
+    ASSERT_EQ(std::system(("bash " OMNIVIEW_SOURCE_DIR "/scripts/make-test-certs.sh " + d.string()).c_str()), 0);
+  }
+  struct Case {
+    std::string config;
+    std::string says;
+  };
+  const std::vector<Case> cases = {
+      // A view its rig cannot serve: only building it finds out.
+      {example_config(10, "views:\n  - {name: v, type: perspective, frame: nowhere}\n"), "frame 'nowhere'"},
+      // A source that cannot start.
+      {"listen: 127.0.0.1:0\nsources:\n  - {name: s, type: images, rig: missing.yaml, images: {}}\n", "missing.yaml"},
+      // A key that does not belong to the certificate, named at tls.key's line.
+      {"tls: {cert: " + (certs / "server.crt").string() + ",\n      key: " + (other / "server.key").string() +
+           "}\n" + example_config(10),
+       "bad.yaml:2: tls.key: the private key in"},
+  };
+  for (const auto& c : cases) {
+    const std::string config = dir.write("bad.yaml", c.config);
+    const auto r = run_process(std::string(OMNIVIEWD) + " --check --config " + config);
+    EXPECT_EQ(r.exit_code, 1) << c.config << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << c.config << "\n" << r.output;
+    EXPECT_NE(r.output.find("bad.yaml"), std::string::npos) << r.output;
+  }
+  // And a good TLS config checks out (the credentials are built, nothing listens).
+  const std::string good = dir.write("good.yaml", "tls: {cert: " + (certs / "server.crt").string() + ", key: " +
+                                                      (certs / "server.key").string() + "}\n" + example_config(10));
+  const auto r = run_process(std::string(OMNIVIEWD) + " --check --config " + good);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
 TEST(Lifecycle, TheBundledConfigChecksOut) {
   const auto r = run_process(std::string(OMNIVIEWD) + " --check --config " + OMNIVIEW_SOURCE_DIR + "/config/omniviewd.yaml");
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -50,6 +85,9 @@ TEST(Lifecycle, TheBundledConfigChecksOut) {
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.output.find("images"), std::string::npos);  // lists source types
   EXPECT_NE(help.output.find("replay"), std::string::npos);
+  const auto version = run_process(std::string(OMNIVIEWD) + " --version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_EQ(version.output.rfind("omniviewd ", 0), 0u) << version.output;
 }
 
 TEST(Lifecycle, AnAddressInUseIsAClearError) {
@@ -91,27 +129,59 @@ TEST(Lifecycle, SigtermEndsStreamsWithAStatusAndExitsCleanly) {
   stalled_ctx->TryCancel();
 }
 
-TEST(Lifecycle, HealthServiceAnswersServing) {
+TEST(Lifecycle, WatchAndStreamSummariseWhenTheDaemonStops) {
   TempDir dir;
-  DaemonProcess daemon(dir, example_config(10));
-  auto channel = grpc::CreateChannel(daemon.address(), grpc::InsecureChannelCredentials());
+  DaemonProcess daemon(dir, example_config(10, "views:\n  - {name: front, type: perspective, width: 160, height: 80}\n"));
+  const std::string cli = std::string(OMNIVIEW_CLI) + " --server " + daemon.address() + " ";
+  auto watch = std::async(std::launch::async, [&] { return run_process(cli + "watch front --rate 500"); });
+  auto stream = std::async(std::launch::async, [&] {
+    return run_process(cli + "stream front --frames 100000 -o " + (dir.path() / "frames").string());
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  EXPECT_EQ(daemon.stop(SIGTERM), 0);
+  const auto w = watch.get();
+  EXPECT_EQ(w.exit_code, 1) << w.output;
+  EXPECT_NE(w.output.find(" frames in "), std::string::npos) << w.output;  // the summary, then why
+  EXPECT_NE(w.output.find("is shutting down"), std::string::npos) << w.output;
+  EXPECT_EQ(w.output.find("cannot reach"), std::string::npos) << w.output;
+  // A rate above limits.max_rate_hz is capped, and the client is told.
+  EXPECT_NE(w.output.find("note: max_rate_hz 500"), std::string::npos) << w.output;
+  EXPECT_NE(w.output.find("limits.max_rate_hz"), std::string::npos) << w.output;
+  const auto s = stream.get();
+  EXPECT_EQ(s.exit_code, 1) << s.output;
+  EXPECT_NE(s.output.find("wrote "), std::string::npos) << s.output;
+  EXPECT_NE(s.output.find("is shutting down"), std::string::npos) << s.output;
+}
+
+// grpc.health.v1.Health/Check for `service`, without the health proto: the request is
+// field 1 (string), the answer field 1 (enum). Returns the answer's bytes.
+std::string health_check(const std::string& address, const std::string& service) {
+  auto channel = grpc::CreateChannel(address, grpc::InsecureChannelCredentials());
   grpc::GenericStub generic(channel);
   grpc::ClientContext ctx;
   ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(5));
-  // grpc.health.v1.HealthCheckRequest{service: ""} is the empty message.
-  grpc::ByteBuffer request, response;
-  grpc::Slice empty("");
-  request = grpc::ByteBuffer(&empty, 1);
+  const std::string encoded =
+      service.empty() ? "" : std::string("\x0a", 1) + static_cast<char>(service.size()) + service;
+  grpc::Slice slice(encoded);
+  grpc::ByteBuffer request(&slice, 1), response;
   std::promise<grpc::Status> done;
   generic.UnaryCall(&ctx, "/grpc.health.v1.Health/Check", grpc::StubOptions(), &request, &response,
                     [&](grpc::Status s) { done.set_value(s); });
   const auto status = done.get_future().get();
-  ASSERT_TRUE(status.ok()) << status.error_message();
+  EXPECT_TRUE(status.ok()) << service << ": " << status.error_message();
   std::vector<grpc::Slice> slices;
-  ASSERT_TRUE(response.Dump(&slices).ok());
+  EXPECT_TRUE(response.Dump(&slices).ok());
   std::string bytes;
   for (const auto& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
-  EXPECT_EQ(bytes, std::string("\x08\x01", 2));  // field 1 (status) = SERVING
+  return bytes;
+}
+
+TEST(Lifecycle, HealthServiceAnswersServing) {
+  TempDir dir;
+  DaemonProcess daemon(dir, example_config(10));
+  const std::string serving("\x08\x01", 2);  // field 1 (status) = SERVING
+  EXPECT_EQ(health_check(daemon.address(), ""), serving);
+  EXPECT_EQ(health_check(daemon.address(), "omniview.v1.Omniview"), serving);
 }
 
 }  // namespace

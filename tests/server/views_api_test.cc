@@ -216,6 +216,17 @@ TEST_F(ViewsApi, PixelToRayAndBack) {
   back.mutable_point()->set_y(0);
   ASSERT_TRUE(stub_->PointToPixel(make_context().get(), back, &px).ok());
   EXPECT_FALSE(px.visible());
+
+  // The image spans [-0.5, W - 0.5]: its corner has a ray, a pixel far outside none.
+  click.set_u(-0.5);
+  click.set_v(160.5);
+  ASSERT_TRUE(stub_->PixelToRay(make_context().get(), click, &ray).ok());
+  EXPECT_TRUE(ray.valid());
+  click.set_u(5000);
+  const auto outside = stub_->PixelToRay(make_context().get(), click, &ray);
+  EXPECT_EQ(outside.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(outside.error_message().find("is outside view 'front' (321x161"), std::string::npos)
+      << outside.error_message();
 }
 
 TEST_F(ViewsApi, CamerasCarryTheirCalibration) {
@@ -263,6 +274,15 @@ TEST_F(ViewsApi, BadRequestsGetClearErrors) {
   auto unframed = perspective("unframed", 320, 160, 90);
   unframed.set_frame("odom");
   cases.push_back({unframed, grpc::StatusCode::INVALID_ARGUMENT, "odom"});
+  cases.push_back({perspective("two words", 320, 160, 90), grpc::StatusCode::INVALID_ARGUMENT, "no spaces"});
+  auto upside_down = perspective("flipped", 320, 160, 90);
+  upside_down.set_pitch_deg(120);
+  cases.push_back({upside_down, grpc::StatusCode::INVALID_ARGUMENT, "pitch_deg (tilt) must be in [-90, 90]"});
+  // A key of another view type: named with the type, not silently ignored.
+  auto fisheye_key = perspective("mixed", 320, 160, 90);
+  fisheye_key.set_fov_deg(200);
+  cases.push_back({fisheye_key, grpc::StatusCode::INVALID_ARGUMENT,
+                   "view 'mixed': fov_deg does not apply to perspective views (their keys: hfov_deg, distance)"});
   for (const auto& c : cases) {
     SCOPED_TRACE(c.spec.ShortDebugString());
     const auto s = create(c.spec);
@@ -276,12 +296,38 @@ TEST_F(ViewsApi, BadRequestsGetClearErrors) {
   zoom_pano.mutable_delta()->set_zoom(-1);
   v1::View v;
   EXPECT_EQ(stub_->UpdateView(make_context().get(), zoom_pano, &v).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  // Partial updates: a key of another type is refused; the full spec GetView returns,
+  // sent back unchanged, is fine (its other keys keep their values).
+  v1::UpdateViewRequest radius;
+  radius.set_name("front");
+  radius.mutable_set()->set_radius(7);
+  auto s = stub_->UpdateView(make_context().get(), radius, &v);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("radius does not apply to perspective views"), std::string::npos)
+      << s.error_message();
+  v1::UpdateViewRequest round_trip;
+  round_trip.set_name("front");
+  ASSERT_TRUE(stub_->GetView(make_context().get(), [] {
+    v1::GetViewRequest r;
+    r.set_name("front");
+    return r;
+  }(), &v).ok());
+  *round_trip.mutable_set() = v.spec();
+  round_trip.mutable_set()->set_yaw_deg(10);
+  s = stub_->UpdateView(make_context().get(), round_trip, &v);
+  EXPECT_TRUE(s.ok()) << s.error_message();
+  // A tilt step beyond straight down stops there.
+  v1::UpdateViewRequest tilt;
+  tilt.set_name("front");
+  tilt.mutable_delta()->set_pitch_deg(200);
+  ASSERT_TRUE(stub_->UpdateView(make_context().get(), tilt, &v).ok());
+  EXPECT_EQ(v.spec().pitch_deg(), 90);
 
   v1::SnapshotRequest snap;
   snap.set_view("front");
   snap.set_quality(101);
   v1::Frame f;
-  const auto s = stub_->GetSnapshot(make_context().get(), snap, &f);
+  s = stub_->GetSnapshot(make_context().get(), snap, &f);
   EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_NE(s.error_message().find("quality"), std::string::npos);
 

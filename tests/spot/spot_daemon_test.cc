@@ -1,0 +1,409 @@
+// omniviewd's `spot` source against spot-mock, both real processes on loopback ports, the
+// way a robot deployment runs: login, discovery, the default views of config/spot.yaml,
+// pulling only watched cameras, wrong passwords, a robot that goes away and comes back,
+// bad images, and credentials that never reach a log.
+#include <gtest/gtest.h>
+
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+#include <opencv2/imgproc.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "core/synthetic/render.h"
+#include "core/view/view.h"
+#include "core/view/view_yaml.h"
+#include "spot_adapter/mock/world/mock_scene.h"
+#include "tests/server/daemon_process.h"
+
+namespace omniview::testing {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+int free_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t n = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+// spot-mock on `port`, its certificates and login in `dir` (made on first start, kept).
+class SpotMock : public ServedProcess {
+ public:
+  SpotMock(const TempDir& dir, int port, const std::string& scene = "test", std::vector<std::string> extra = {})
+      : SpotMock(dir, port, scene, std::move(extra), std::to_string(++count_)) {}
+
+  static std::string certs(const TempDir& dir) { return (dir.path() / "certs").string(); }
+  static std::string credentials(const TempDir& dir) { return (dir.path() / "credentials.yaml").string(); }
+
+ private:
+  SpotMock(const TempDir& dir, int port, const std::string& scene, std::vector<std::string> extra,
+           const std::string& tag)
+      : ServedProcess("spot-mock", args(dir, port, scene, std::move(extra), tag), dir.path() / ("spot_mock_" + tag + ".log"),
+                      dir.path() / ("mock_ready_" + tag)) {}
+
+  static inline int count_ = 0;
+  static std::vector<std::string> args(const TempDir& dir, int port, const std::string& scene,
+                                       std::vector<std::string> extra, const std::string& tag) {
+    std::vector<std::string> a = {SPOT_MOCK, "--port", std::to_string(port), "--certs", certs(dir),
+                                  "--credentials", credentials(dir), "--scene", scene, "--ready-file",
+                                  (dir.path() / ("mock_ready_" + tag)).string()};
+    for (auto& e : extra) a.push_back(std::move(e));
+    return a;
+  }
+};
+
+// `spot-mock control ...`: KEY=VALUE lines of --counters, as a map.
+std::map<std::string, double> mock_control(const TempDir& dir, int port, const std::string& args) {
+  const auto r = run_process(std::string(SPOT_MOCK) + " control --port " + std::to_string(port) + " --certs " +
+                             SpotMock::certs(dir) + " " + args);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  std::map<std::string, double> out;
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);) {
+    const auto eq = line.find('=');
+    if (eq == std::string::npos) continue;
+    try {
+      out[line.substr(0, eq)] = std::stod(line.substr(eq + 1));
+    } catch (const std::exception&) {
+    }
+  }
+  return out;
+}
+
+// The views of the shipped config/spot.yaml, as YAML text to append to a test config.
+std::string shipped_views() {
+  const YAML::Node config = YAML::LoadFile(std::string(OMNIVIEW_SOURCE_DIR) + "/config/spot.yaml");
+  YAML::Emitter e;
+  e << YAML::BeginMap << YAML::Key << "views" << YAML::Value << config["views"] << YAML::EndMap;
+  return std::string(e.c_str()) + "\n";
+}
+
+std::string daemon_config(const TempDir& dir, int mock_port, const std::string& credentials,
+                          const std::string& extra = shipped_views()) {
+  std::ostringstream s;
+  s << "listen: 127.0.0.1:0\n"
+    << "sources:\n"
+    << "  - name: spot\n"
+    << "    type: spot\n"
+    << "    robot: 127.0.0.1:" << mock_port << "\n"
+    << "    ca_file: " << SpotMock::certs(dir) << "/ca.pem\n"
+    << "    credentials_file: " << credentials << "\n"
+    << "    rate_hz: 15\n"
+    << extra;
+  return s.str();
+}
+
+v1::SourceStatus source_status(v1::Omniview::Stub& stub) {
+  v1::Status st;
+  EXPECT_TRUE(stub.GetStatus(make_context().get(), v1::GetStatusRequest(), &st).ok());
+  for (const auto& s : st.sources()) {
+    if (s.name() == "spot") return s;
+  }
+  ADD_FAILURE() << "no source 'spot' in status";
+  return {};
+}
+
+// Polls `done` every 50 ms until it holds or `timeout` passes.
+template <typename F>
+bool eventually(F&& done, std::chrono::milliseconds timeout) {
+  const auto deadline = Clock::now() + timeout;
+  while (Clock::now() < deadline) {
+    if (done()) return true;
+    std::this_thread::sleep_for(50ms);
+  }
+  return done();
+}
+
+grpc::Status snapshot(v1::Omniview::Stub& stub, const std::string& view, v1::Frame& frame, int timeout_ms = 8000) {
+  v1::SnapshotRequest r;
+  r.set_view(view);
+  r.set_encoding(v1::RAW);
+  r.set_timeout_ms(timeout_ms);
+  return stub.GetSnapshot(make_context("", std::chrono::milliseconds(timeout_ms + 2000)).get(), r, &frame);
+}
+
+cv::Mat frame_image(const v1::Frame& f) {
+  const int type = f.channels() == 1 ? CV_8UC1 : CV_8UC3;
+  cv::Mat m(f.height(), f.width(), type, const_cast<char*>(f.data().data()));
+  cv::Mat grey;
+  if (f.channels() == 1) grey = m.clone();
+  else cv::cvtColor(m, grey, cv::COLOR_RGB2GRAY);
+  return grey;
+}
+
+// PSNR of `image` against the test scene's texture at the view's surface points, over the
+// pixels some camera covers (non-black) where `usable(surface point in vision)` holds.
+template <typename Usable>
+double psnr_against_scene(const cv::Mat& image, const std::string& view_yaml, const Pose& T_vision_frame,
+                          Usable&& usable, size_t* compared = nullptr) {
+  const auto reader = YamlReader::from_string(view_yaml, "view");
+  const ViewSpec spec = parse_view(reader, reader.root(), "view");
+  const auto view = View::create(spec);
+  const Pose T_vision_view = T_vision_frame * spec.T_frame_view();
+  cv::Mat on_surface;
+  cv::Mat expected = synthetic::texture_at_view(*view, T_vision_view, &on_surface);
+  cv::Mat expected_grey;
+  cv::cvtColor(expected, expected_grey, cv::COLOR_BGR2GRAY);
+  double error = 0;
+  size_t n = 0;
+  for (int v = 0; v < image.rows; ++v) {
+    for (int u = 0; u < image.cols; ++u) {
+      if (!on_surface.at<uint8_t>(v, u) || image.at<uint8_t>(v, u) == 0) continue;
+      Vec3 p;
+      if (!view->pixel_to_point(u, v, p) || !usable(T_vision_view * p)) continue;
+      const double d = double(image.at<uint8_t>(v, u)) - expected_grey.at<uint8_t>(v, u);
+      error += d * d;
+      ++n;
+    }
+  }
+  if (compared) *compared = n;
+  return n == 0 ? 0 : 10 * std::log10(255.0 * 255.0 / (error / n));
+}
+
+
+// Reads a view's frames on its own thread, noting when each arrived.
+class FrameReader {
+ public:
+  FrameReader(v1::Omniview::Stub& stub, const std::string& view) {
+    context_ = make_context("", 60s);
+    v1::StreamFramesRequest r;
+    r.set_view(view);
+    r.set_encoding(v1::JPEG);
+    reader_ = stub.StreamFrames(context_.get(), r);
+    thread_ = std::thread([this] {
+      v1::Frame f;
+      while (reader_->Read(&f)) {
+        std::lock_guard lock(mutex_);
+        arrivals_.push_back(Clock::now());
+      }
+    });
+  }
+  ~FrameReader() {
+    context_->TryCancel();
+    thread_.join();
+  }
+  size_t frames() const {
+    std::lock_guard lock(mutex_);
+    return arrivals_.size();
+  }
+  // The first frame that arrived after `t`, if any.
+  std::optional<Clock::time_point> first_after(Clock::time_point t) const {
+    std::lock_guard lock(mutex_);
+    for (const auto& a : arrivals_) {
+      if (a > t) return a;
+    }
+    return std::nullopt;
+  }
+
+ private:
+  std::unique_ptr<grpc::ClientContext> context_;
+  std::unique_ptr<grpc::ClientReader<v1::Frame>> reader_;
+  mutable std::mutex mutex_;
+  std::vector<Clock::time_point> arrivals_;
+  std::thread thread_;
+};
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Neither log may hold the robot's password or anything token-like.
+void expect_no_secrets(const std::string& log, const std::string& password) {
+  EXPECT_EQ(log.find(password), std::string::npos) << "the password is in a log:\n" << log;
+  EXPECT_EQ(log.find("Bearer"), std::string::npos) << log;
+  EXPECT_EQ(log.find("eyJ"), std::string::npos) << "a JWT is in a log:\n" << log;  // base64 of '{"'
+}
+
+std::string mock_password(const TempDir& dir) {
+  return YAML::LoadFile(SpotMock::credentials(dir))["password"].as<std::string>();
+}
+
+TEST(SpotSource, DefaultViewsStreamAndMatchTheMocksScene) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port);
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+
+  // Nobody watches yet: the source logs in and reads the cameras, but pulls no image.
+  ASSERT_TRUE(eventually([&] { return source_status(*stub).connected(); }, 10s)) << daemon.log();
+  std::this_thread::sleep_for(300ms);
+  EXPECT_EQ(mock_control(dir, port, "--counters").at("get_image_calls"), 0) << "images pulled with nobody watching";
+
+  v1::ListCamerasResponse cams;
+  ASSERT_TRUE(stub->ListCameras(make_context().get(), v1::ListCamerasRequest(), &cams).ok());
+  EXPECT_EQ(cams.cameras_size(), 5);
+
+  for (const char* name : {"front", "birdseye"}) {
+    v1::Frame f;
+    ASSERT_TRUE(snapshot(*stub, name, f).ok()) << name << "\n" << daemon.log();
+    EXPECT_EQ(f.width(), std::string(name) == "front" ? 1024 : 800);
+    EXPECT_GT(f.coverage(), std::string(name) == "front" ? 0.6 : 0.85) << name;
+  }
+
+  // The shipped bird's-eye view stands on footprint, the ground below the body: in the
+  // mock's world that is the floor z = 0 the test scene textures, up to its wall at x = 3.
+  v1::Frame bird;
+  ASSERT_TRUE(snapshot(*stub, "birdseye", bird).ok());
+  size_t n = 0;
+  const double bird_db = psnr_against_scene(
+      frame_image(bird), bird.camera().yaml(), Pose::Identity(),
+      [](const Vec3& p) { return p.x() < spot_mock::kTestWallX - 0.1; }, &n);
+  std::cout << "birdseye vs the scene: " << bird_db << " dB over " << n << " pixels\n";
+  EXPECT_GT(n, 200000u);
+  EXPECT_GT(bird_db, 35);  // measured 39.4 (the mock's JPEG and grazing floor views)
+
+  // A front view whose plane is the scene's wall (3 m ahead of the body) checks the front
+  // cameras' geometry: their crossing, roll and pitch.
+  v1::CreateViewRequest create;
+  auto* spec = create.mutable_spec();
+  spec->set_name("wall");
+  spec->set_type(v1::PERSPECTIVE);
+  spec->set_width(640);
+  spec->set_height(320);
+  spec->set_frame("body");
+  spec->set_hfov_deg(110);
+  spec->set_distance(spot_mock::kTestWallX);
+  v1::View created;
+  ASSERT_TRUE(stub->CreateView(make_context().get(), create, &created).ok());
+  v1::Frame wall;
+  ASSERT_TRUE(snapshot(*stub, "wall", wall).ok());
+  Pose T_vision_body = Pose::Identity();
+  T_vision_body.translation().z() = spot_mock::kBodyHeightM;
+  const double wall_db = psnr_against_scene(
+      frame_image(wall), wall.camera().yaml(), T_vision_body, [](const Vec3& p) { return p.z() > 0.1; }, &n);
+  std::cout << "front wall vs the scene: " << wall_db << " dB over " << n << " pixels\n";
+  EXPECT_GT(n, 60000u);
+  EXPECT_GT(wall_db, 44);  // measured 48.6
+}
+
+
+TEST(SpotSource, PullsOnlyTheCamerasWatchedViewsNeed) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port);
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+  // A narrow view looking back and down: the back camera alone sees it.
+  v1::CreateViewRequest create;
+  auto* spec = create.mutable_spec();
+  spec->set_name("behind");
+  spec->set_type(v1::PERSPECTIVE);
+  spec->set_width(320);
+  spec->set_height(240);
+  spec->set_frame("body");
+  spec->set_yaw_deg(180);
+  spec->set_pitch_deg(35);
+  spec->set_hfov_deg(40);
+  v1::View created;
+  const grpc::Status made = stub->CreateView(make_context().get(), create, &created);
+  ASSERT_TRUE(made.ok()) << made.error_message() << " daemon alive: " << (::kill(daemon.pid(), 0) == 0) << " rss " << daemon.rss_kb() << "\n" << daemon.log();
+  {
+    FrameReader reader(*stub, "behind");
+    ASSERT_TRUE(eventually([&] { return reader.frames() >= 10; }, 15s)) << daemon.log();
+  }
+  const auto counters = mock_control(dir, port, "--counters");
+  EXPECT_GE(counters.at("image_requests.back_fisheye_image"), 10);
+  for (const char* unwatched : {"frontleft_fisheye_image", "frontright_fisheye_image", "left_fisheye_image",
+                                "right_fisheye_image"}) {
+    const auto it = counters.find(std::string("image_requests.") + unwatched);
+    EXPECT_TRUE(it == counters.end() || it->second == 0) << unwatched << " was pulled";
+  }
+  // Nobody watches any more: the pulling stops.
+  std::this_thread::sleep_for(500ms);
+  const double calls = mock_control(dir, port, "--counters").at("get_image_calls");
+  std::this_thread::sleep_for(1s);
+  EXPECT_EQ(mock_control(dir, port, "--counters").at("get_image_calls"), calls);
+}
+
+TEST(SpotSource, WrongPasswordIsClearAndNeverTripsTheLockout) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port);
+  const std::string wrong = dir.write("wrong.yaml", "username: user\npassword: not-the-password-42\n");
+  DaemonProcess daemon(dir, daemon_config(dir, port, wrong));
+  auto stub = make_stub(daemon.address());
+  ASSERT_TRUE(eventually([&] { return source_status(*stub).message().find("login refused") != std::string::npos; }, 10s))
+      << source_status(*stub).DebugString() << daemon.log();
+  const v1::SourceStatus st = source_status(*stub);
+  EXPECT_FALSE(st.connected());
+  EXPECT_NE(st.message().find("user 'user'"), std::string::npos) << st.message();
+  EXPECT_NE(st.message().find("credentials"), std::string::npos) << "says what to check: " << st.message();
+  // Views answer with the source's state instead of hanging.
+  v1::Frame f;
+  EXPECT_FALSE(snapshot(*stub, "front", f, 1000).ok());
+  std::this_thread::sleep_for(2s);
+  EXPECT_LE(mock_control(dir, port, "--counters").at("logins_failed"), 2) << "retrying too often: the robot locks after 6";
+  expect_no_secrets(daemon.log(), "not-the-password-42");
+  expect_no_secrets(daemon.log(), mock_password(dir));
+}
+
+TEST(SpotSource, ViewsResumeWithinTwoSecondsOfTheRobotsReturn) {
+  TempDir dir;
+  const int port = free_port();
+  auto mock = std::make_unique<SpotMock>(dir, port);
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+  FrameReader reader(*stub, "birdseye");
+  ASSERT_TRUE(eventually([&] { return reader.frames() >= 5; }, 15s)) << daemon.log();
+
+  mock->stop(SIGKILL);  // the robot walks out of Wi-Fi range, or reboots
+  mock.reset();
+  ASSERT_TRUE(eventually([&] { return !source_status(*stub).connected(); }, 10s)) << daemon.log();
+  EXPECT_NE(source_status(*stub).message().find("retrying"), std::string::npos) << source_status(*stub).message();
+  std::this_thread::sleep_for(3s);  // long enough for any backoff to have grown
+
+  mock = std::make_unique<SpotMock>(dir, port);
+  const auto back = Clock::now();
+  ASSERT_TRUE(eventually([&] { return reader.first_after(back).has_value(); }, 10s)) << daemon.log();
+  const double resumed_s = std::chrono::duration<double>(*reader.first_after(back) - back).count();
+  std::cout << "frames resumed " << resumed_s << " s after the robot was back\n";
+  EXPECT_LT(resumed_s, 2.0);
+  EXPECT_TRUE(source_status(*stub).connected());
+  expect_no_secrets(daemon.log(), mock_password(dir));
+  expect_no_secrets(mock->log(), mock_password(dir));
+}
+
+TEST(SpotSource, BadImagesFailedCallsAndExpiredTokensAreSkippedAndCounted) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port, "test",
+                {"--corrupt-probability", "0.2", "--image-error-probability", "0.1", "--wrong-size-probability", "0.1",
+                 "--fail-probability", "0.1"});
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+  FrameReader reader(*stub, "birdseye");
+  ASSERT_TRUE(eventually([&] { return reader.frames() >= 10; }, 20s)) << daemon.log();
+  const double logins = mock_control(dir, port, "--counters").at("logins_ok");
+  mock_control(dir, port, "--expire-tokens");
+  const size_t before = reader.frames();
+  ASSERT_TRUE(eventually([&] { return reader.frames() >= before + 10; }, 20s)) << daemon.log();
+  EXPECT_GT(mock_control(dir, port, "--counters").at("logins_ok"), logins) << "logged in again";
+  const v1::SourceStatus st = source_status(*stub);
+  EXPECT_GT(st.errors(), 0u) << st.DebugString();
+  EXPECT_EQ(daemon.stop(SIGTERM), 0) << daemon.log();
+  expect_no_secrets(daemon.log(), mock_password(dir));
+}
+
+}  // namespace
+}  // namespace omniview::testing
