@@ -41,6 +41,32 @@ std::string join(const std::vector<std::string>& items) {
   return out;
 }
 
+
+// Same sources, sensor frames, sizes and calibrations, in the same order.
+bool same_cameras(const std::vector<CameraSlot>& a, const std::vector<CameraSlot>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const Camera &x = a[i].camera, &y = b[i].camera;
+    const ModelSpec mx = describe(x.model), my = describe(y.model);
+    if (a[i].source != b[i].source || x.name != y.name || x.width != y.width || x.height != y.height ||
+        mx.camera_model != my.camera_model || mx.distortion_model != my.distortion_model ||
+        mx.intrinsics != my.intrinsics || mx.distortion != my.distortion) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Whether any edge was added, removed or moved beyond noise.
+bool tree_moved(const std::map<std::string, FrameEdge>& a, const std::map<std::string, FrameEdge>& b) {
+  if (a.size() != b.size()) return true;
+  for (const auto& [child, edge] : a) {
+    const auto it = b.find(child);
+    if (it == b.end() || edge_moved(edge, it->second)) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 SpotSource::SpotSource(const SourceConfig& config)
@@ -173,25 +199,30 @@ void SpotSource::connect() {
     throw SpotError(SpotError::Kind::kProtocol, "the robot has none of the configured cameras (it has: " +
                                                     join(available) + ")");
   }
-  std::vector<Camera> cameras;
-  for (const auto& s : slots) cameras.push_back(s.camera);
-  set_rig(build_spot_rig(cameras, tree));
-  {
-    std::lock_guard lock(mutex_);
-    slots_ = std::move(slots);
-    wanted_.assign(slots_.size(), false);  // the pipeline says again once it has the rig
+  // The same robot back after an outage: keep the rig, so no view rebuilds its map and
+  // the cameras watched before are pulled again at once.
+  const bool unchanged = same_cameras(slots, slots_) && !tree_moved(tree_, tree);
+  if (!unchanged) {
+    std::vector<Camera> cameras;
+    for (const auto& s : slots) cameras.push_back(s.camera);
+    set_rig(build_spot_rig(cameras, tree));
+    {
+      std::lock_guard lock(mutex_);
+      slots_ = std::move(slots);
+      wanted_.assign(slots_.size(), false);  // the pipeline says again once it has the rig
+    }
+    tree_ = std::move(tree);
+    last_rig_change_ = Clock::now();
   }
-  tree_ = std::move(tree);
-  last_rig_change_ = Clock::now();
 
   std::vector<std::string> names;
   for (const auto& s : slots_) names.push_back(s.camera.name);
   const std::string note = missing.empty() ? "" : "not on this robot: " + join(missing) + " (it has: " + join(available) + ")";
-  log("connected to " + session_.robot() + " at " + to_string(settings_.address) + "; cameras: " + join(names) +
+  log(std::string(unchanged ? "reconnected to " : "connected to ") + session_.robot() + " at " + to_string(settings_.address) + "; cameras: " + join(names) +
       (note.empty() ? "" : "; " + note));
   connect_note_ = note;
   report(true, note);
-  announce_rig();
+  if (!unchanged) announce_rig();
 }
 
 void SpotSource::refresh_tree(const std::vector<FrameEdge>& edges) {
@@ -253,7 +284,8 @@ void SpotSource::pull_once(const std::vector<size_t>& wanted) {
 
 std::chrono::milliseconds SpotSource::on_error(const SpotError& e) {
   ++failures_;
-  const milliseconds backoff = std::min(milliseconds(1000), milliseconds(200) * (1 << std::min(failures_ - 1, 4)));
+  // Short: a robot back from a Wi-Fi gap should be noticed within half a second.
+  const milliseconds backoff = std::min(milliseconds(500), milliseconds(100) * (1 << std::min(failures_ - 1, 4)));
   milliseconds pause = backoff;
   std::string advice;
   switch (e.kind()) {
