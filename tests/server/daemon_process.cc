@@ -66,7 +66,7 @@ std::string example_config(double rate_hz, const std::string& extra) {
 }
 
 ServedProcess::ServedProcess(std::string name, std::vector<std::string> args, fs::path log_file,
-                             const fs::path& ready)
+                             const fs::path& ready, std::chrono::seconds ready_timeout)
     : name_(std::move(name)), log_file_(std::move(log_file)) {
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
@@ -80,7 +80,7 @@ ServedProcess::ServedProcess(std::string name, std::vector<std::string> args, fs
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) throw std::runtime_error("cannot start " + args.front());
 
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  const auto deadline = std::chrono::steady_clock::now() + ready_timeout;
   while (std::chrono::steady_clock::now() < deadline) {
     if (fs::exists(ready) && fs::file_size(ready) > 0) {
       std::ifstream(ready) >> address_;
@@ -94,7 +94,7 @@ ServedProcess::ServedProcess(std::string name, std::vector<std::string> args, fs
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  ADD_FAILURE() << name_ << " not ready within 20 s:\n" << log();
+  ADD_FAILURE() << name_ << " not ready within " << ready_timeout.count() << " s:\n" << log();
   throw std::runtime_error(name_ + " did not start");
 }
 

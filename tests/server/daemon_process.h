@@ -39,9 +39,10 @@ std::string example_config(double rate_hz = 30, const std::string& extra = "");
 class ServedProcess {
  public:
   // `args`: the program and its arguments. Waits until `ready_file` appears; fails the test
-  // (and throws) if the program exits first or is not ready within 20 s.
+  // (and throws) if the program exits first or is not ready within `ready_timeout`.
   ServedProcess(std::string name, std::vector<std::string> args, std::filesystem::path log_file,
-                const std::filesystem::path& ready_file);
+                const std::filesystem::path& ready_file,
+                std::chrono::seconds ready_timeout = std::chrono::seconds(20));
   ~ServedProcess();
   ServedProcess(const ServedProcess&) = delete;
   ServedProcess& operator=(const ServedProcess&) = delete;

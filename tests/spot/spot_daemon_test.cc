@@ -25,6 +25,7 @@
 #include "core/view/view_yaml.h"
 #include "spot_adapter/mock/world/mock_scene.h"
 #include "tests/server/daemon_process.h"
+#include "tests/spot_mock/spot_mock_process.h"
 
 namespace omniview::testing {
 namespace {
@@ -44,42 +45,32 @@ int free_port() {
   return ntohs(a.sin_port);
 }
 
-// spot-mock on `port`, its certificates and login in `dir` (made on first start, kept).
-class SpotMock : public ServedProcess {
+// spot-mock on `port` in the test's folder, by default with the test scene rendered with
+// one ray per pixel (a third of the start-up time, which matters under the sanitizers).
+class SpotMock : public SpotMockProcess {
  public:
   SpotMock(const TempDir& dir, int port, const std::string& scene = "test", std::vector<std::string> extra = {})
-      : SpotMock(dir, port, scene, std::move(extra), std::to_string(++count_)) {}
+      : SpotMockProcess(dir.path(), with_defaults(scene, std::move(extra)), port) {}
 
-  static std::string certs(const TempDir& dir) { return (dir.path() / "certs").string(); }
+  static std::string certs(const TempDir& dir) { return certs_dir(dir.path()); }
   static std::string credentials(const TempDir& dir) { return (dir.path() / "credentials.yaml").string(); }
 
  private:
-  SpotMock(const TempDir& dir, int port, const std::string& scene, std::vector<std::string> extra,
-           const std::string& tag)
-      : ServedProcess("spot-mock", args(dir, port, scene, std::move(extra), tag), dir.path() / ("spot_mock_" + tag + ".log"),
-                      dir.path() / ("mock_ready_" + tag)) {}
-
-  static inline int count_ = 0;
-  static std::vector<std::string> args(const TempDir& dir, int port, const std::string& scene,
-                                       std::vector<std::string> extra, const std::string& tag) {
-    std::vector<std::string> a = {SPOT_MOCK, "--port", std::to_string(port), "--certs", certs(dir),
-                                  "--credentials", credentials(dir), "--scene", scene, "--ready-file",
-                                  (dir.path() / ("mock_ready_" + tag)).string()};
-    // One ray per pixel renders the mock's cameras in a third of the time (it matters
-    // under the sanitizers); the geometry test asks for more.
-    if (std::find(extra.begin(), extra.end(), "--supersample") == extra.end()) extra.insert(extra.end(), {"--supersample", "1"});
-    for (auto& e : extra) a.push_back(std::move(e));
-    return a;
+  static std::vector<std::string> with_defaults(const std::string& scene, std::vector<std::string> extra) {
+    extra.insert(extra.end(), {"--scene", scene});
+    if (std::find(extra.begin(), extra.end(), "--supersample") == extra.end()) {
+      extra.insert(extra.end(), {"--supersample", "1"});
+    }
+    return extra;
   }
 };
 
-// `spot-mock control ...`: KEY=VALUE lines of --counters, as a map.
-std::map<std::string, double> mock_control(const TempDir& dir, int port, const std::string& args) {
-  const auto r = run_process(std::string(SPOT_MOCK) + " control --port " + std::to_string(port) + " --certs " +
-                             SpotMock::certs(dir) + " " + args);
-  EXPECT_EQ(r.exit_code, 0) << r.output;
+// `spot-mock control ARGS`: its KEY=VALUE lines, as a map.
+std::map<std::string, double> mock_control(const SpotMockProcess& mock, const std::string& args) {
+  const auto r = mock.control(args);
+  EXPECT_EQ(r.exit_code, 0) << r.text;
   std::map<std::string, double> out;
-  std::istringstream lines(r.output);
+  std::istringstream lines(r.text);
   for (std::string line; std::getline(lines, line);) {
     const auto eq = line.find('=');
     if (eq == std::string::npos) continue;
@@ -252,7 +243,7 @@ TEST(SpotSource, DefaultViewsStreamAndMatchTheMocksScene) {
   // Nobody watches yet: the source logs in and reads the cameras, but pulls no image.
   ASSERT_TRUE(eventually([&] { return source_status(*stub).connected(); }, 10s)) << daemon.log();
   std::this_thread::sleep_for(300ms);
-  EXPECT_EQ(mock_control(dir, port, "--counters").at("get_image_calls"), 0) << "images pulled with nobody watching";
+  EXPECT_EQ(mock_control(mock, "--counters").at("get_image_calls"), 0) << "images pulled with nobody watching";
 
   v1::ListCamerasResponse cams;
   ASSERT_TRUE(stub->ListCameras(make_context().get(), v1::ListCamerasRequest(), &cams).ok());
@@ -326,7 +317,7 @@ TEST(SpotSource, PullsOnlyTheCamerasWatchedViewsNeed) {
     FrameReader reader(*stub, "behind");
     ASSERT_TRUE(eventually([&] { return reader.frames() >= 10; }, 15s)) << daemon.log();
   }
-  const auto counters = mock_control(dir, port, "--counters");
+  const auto counters = mock_control(mock, "--counters");
   EXPECT_GE(counters.at("image_requests.back_fisheye_image"), 10);
   for (const char* unwatched : {"frontleft_fisheye_image", "frontright_fisheye_image", "left_fisheye_image",
                                 "right_fisheye_image"}) {
@@ -335,9 +326,9 @@ TEST(SpotSource, PullsOnlyTheCamerasWatchedViewsNeed) {
   }
   // Nobody watches any more: the pulling stops.
   std::this_thread::sleep_for(500ms);
-  const double calls = mock_control(dir, port, "--counters").at("get_image_calls");
+  const double calls = mock_control(mock, "--counters").at("get_image_calls");
   std::this_thread::sleep_for(1s);
-  EXPECT_EQ(mock_control(dir, port, "--counters").at("get_image_calls"), calls);
+  EXPECT_EQ(mock_control(mock, "--counters").at("get_image_calls"), calls);
 }
 
 TEST(SpotSource, ColourAndGreyRobotsRawAndJpegThroughTheFallbackFormats) {
@@ -386,7 +377,7 @@ TEST(SpotSource, WrongPasswordIsClearAndNeverTripsTheLockout) {
   v1::Frame f;
   EXPECT_FALSE(snapshot(*stub, "front", f, 1000).ok());
   std::this_thread::sleep_for(2s);
-  EXPECT_LE(mock_control(dir, port, "--counters").at("logins_failed"), 2) << "retrying too often: the robot locks after 6";
+  EXPECT_LE(mock_control(mock, "--counters").at("logins_failed"), 2) << "retrying too often: the robot locks after 6";
   expect_no_secrets(daemon.log(), "not-the-password-42");
   expect_no_secrets(daemon.log(), mock_password(dir));
 }
@@ -427,11 +418,11 @@ TEST(SpotSource, BadImagesFailedCallsAndExpiredTokensAreSkippedAndCounted) {
   auto stub = make_stub(daemon.address());
   FrameReader reader(*stub, "birdseye");
   ASSERT_TRUE(eventually([&] { return reader.frames() >= 10; }, 20s)) << daemon.log();
-  const double logins = mock_control(dir, port, "--counters").at("logins_ok");
-  mock_control(dir, port, "--expire-tokens");
+  const double logins = mock_control(mock, "--counters").at("logins_ok");
+  mock_control(mock, "--expire-tokens");
   const size_t before = reader.frames();
   ASSERT_TRUE(eventually([&] { return reader.frames() >= before + 10; }, 20s)) << daemon.log();
-  EXPECT_GT(mock_control(dir, port, "--counters").at("logins_ok"), logins) << "logged in again";
+  EXPECT_GT(mock_control(mock, "--counters").at("logins_ok"), logins) << "logged in again";
   const v1::SourceStatus st = source_status(*stub);
   EXPECT_GT(st.errors(), 0u) << st.DebugString();
   EXPECT_EQ(daemon.stop(SIGTERM), 0) << daemon.log();

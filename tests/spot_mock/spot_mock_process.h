@@ -14,28 +14,25 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include "tests/server/daemon_process.h"
+
 namespace omniview::testing {
 
-class SpotMockProcess {
+class SpotMockProcess : public ServedProcess {
  public:
-  // Starts spot-mock with --port 0, its certificates in `dir`/certs and its login in
-  // `dir`/credentials.yaml (made by the mock unless they exist), plus `extra_args`; waits
-  // until it serves. Fails the test (and throws) if it exits or is not ready within 60 s.
-  SpotMockProcess(const std::filesystem::path& dir, std::vector<std::string> extra_args = {});
-  ~SpotMockProcess();  // kills it if still running
+  // Starts spot-mock on `port` (0: a free one), its certificates in `dir`/certs and its
+  // login in `dir`/credentials.yaml (made by the mock unless they exist: a mock started
+  // again in the same folder is the same robot), plus `extra_args`; waits until it serves.
+  // Fails the test (and throws) if it exits or is not ready within 60 s (the start-up
+  // render is slow under the sanitizers).
+  SpotMockProcess(const std::filesystem::path& dir, std::vector<std::string> extra_args = {}, int port = 0);
 
-  const std::string& address() const { return address_; }  // 127.0.0.1:PORT
   int port() const;
-  pid_t pid() const { return pid_; }
-  std::string certs_dir() const { return (dir_ / "certs").string(); }
+  std::string certs_dir() const { return certs_dir(dir_); }
+  static std::string certs_dir(const std::filesystem::path& dir) { return (dir / "certs").string(); }
   std::string credentials_file() const { return (dir_ / "credentials.yaml").string(); }
   std::string username() const;
   std::string password() const;
-  std::string log() const;  // its stdout and stderr so far
-
-  // Sends `sig` and waits up to `timeout`; returns the exit code (-1: killed after the
-  // timeout; 128+n: killed by signal n).
-  int stop(int sig = 15, std::chrono::seconds timeout = std::chrono::seconds(10));
 
   // A TLS channel to `authority` (api.spot.robot, auth.spot.robot, id.spot.robot) that trusts
   // only the mock's CA; a connection of its own.
@@ -52,10 +49,9 @@ class SpotMockProcess {
   Output control(const std::string& args) const;
 
  private:
+  SpotMockProcess(const std::filesystem::path& dir, std::vector<std::string> extra_args, int port,
+                  const std::string& tag);
   std::filesystem::path dir_;
-  std::filesystem::path log_file_;
-  std::string address_;
-  pid_t pid_ = -1;
 };
 
 // A context with a deadline and, unless `token` is empty, `authorization: Bearer <token>`.
