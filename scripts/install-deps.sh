@@ -9,6 +9,7 @@ packages=(
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
   libssl-dev openssl python3 python3-grpcio python3-protobuf
   libgtest-dev libgmock-dev libbenchmark-dev
+  liburdfdom-dev liburdfdom-headers-dev libassimp-dev libosmesa6-dev
 )
 
 missing=()

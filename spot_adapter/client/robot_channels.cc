@@ -70,11 +70,13 @@ std::shared_ptr<grpc::Channel> RobotChannels::channel(const std::string& authori
   args.SetMaxSendMessageSize(100 << 20);
   args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 5000);
   args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 5000);
-  // gRPC's default reconnect backoff grows to two minutes; views must resume within
-  // seconds of the robot coming back.
+  // gRPC's default reconnect backoff grows to two minutes; views must resume within a
+  // second of the robot coming back (a retry every half second costs a TCP SYN). The
+  // "minimum" backoff is really the time one connection attempt may take: TCP and TLS
+  // over poor Wi-Fi need seconds.
   args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 200);
-  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 200);
-  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 1000);
+  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 500);
+  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 5000);
   args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // our own connections, not shared with others
   channel = grpc::CreateCustomChannel(to_string(address_), grpc::SslCredentials(tls), args);
   return channel;

@@ -19,6 +19,7 @@ using std::chrono::milliseconds;
 // map that often would cost more than the views, so the rig follows at most this often.
 constexpr auto kMinRigInterval = milliseconds(500);
 constexpr auto kErrorLogInterval = std::chrono::seconds(30);
+constexpr auto kChannelResetInterval = std::chrono::seconds(10);
 
 // ListImageSources does not name a source's sensor frame (only images do). Spot names the
 // body cameras' frames after their sources (frontleft_fisheye_image -> frontleft_fisheye),
@@ -290,8 +291,13 @@ std::chrono::milliseconds SpotSource::on_error(const SpotError& e) {
   std::string advice;
   switch (e.kind()) {
     case SpotError::Kind::kUnreachable:
-      // Fresh channels connect at once; gRPC's own reconnect backoff could add seconds.
-      if (failures_ >= 2) channels_.reset();
+      // The channels reconnect by themselves within a second; fresh ones now and then
+      // guard against a connection that hangs, but never so often that a slow TLS
+      // handshake over poor Wi-Fi could not finish.
+      if (failures_ >= 2 && Clock::now() - last_channel_reset_ > kChannelResetInterval) {
+        channels_.reset();
+        last_channel_reset_ = Clock::now();
+      }
       advice = "retrying every " + std::to_string(backoff.count()) + " ms";
       break;
     case SpotError::Kind::kTokenRejected:

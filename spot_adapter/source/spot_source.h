@@ -63,6 +63,7 @@ class SpotSource : public Source {
   int failures_ = 0;  // in a row, for the backoff
   std::chrono::steady_clock::time_point last_error_log_;
   std::chrono::steady_clock::time_point last_rig_change_;
+  std::chrono::steady_clock::time_point last_channel_reset_;
   std::string connect_note_;  // configured cameras the robot lacks, shown in status
 
   mutable std::mutex mutex_;
