@@ -3,6 +3,11 @@
 // frame (p50/p99: from the frame set's arrival in the daemon to the frame in the client's
 // hands, and the daemon's own arrival-to-encoded part) and the daemon's CPU use, as
 // Google Benchmark counters. Run: ./daemon_load (see bench/README.md).
+//
+// BM_JpegBesidePng/0 and /1: two JPEG clients of `front`, alone (0) and beside one PNG
+// client of a 2048x1024 panorama (1); only the JPEG clients' latency is in the
+// percentiles, so the two show what an expensive client costs the cheap ones.
+// OMNIVIEW_BENCH_DAEMON runs another omniviewd binary (a baseline build, say).
 #include <benchmark/benchmark.h>
 
 #include <fcntl.h>
@@ -13,6 +18,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -64,9 +70,11 @@ struct Daemon {
                           << ", rate_hz: " << kSourceHz << "}\n"
                           << "views:\n"
                           << "  - {name: front, type: perspective, width: 1024, height: 512, hfov_deg: 120}\n"
-                          << "  - {name: birdseye, type: birdseye, width: 800, height: 800, height_m: 4}\n";
+                          << "  - {name: birdseye, type: birdseye, width: 800, height: 800, height_m: 4}\n"
+                          << "  - {name: panorama, type: equirectangular, width: 2048, height: 1024}\n";
     const fs::path ready = dir / "ready";
-    std::vector<std::string> args = {OMNIVIEWD, "--config", config.string(), "--ready-file", ready.string()};
+    const char* binary = std::getenv("OMNIVIEW_BENCH_DAEMON");
+    std::vector<std::string> args = {binary && *binary ? binary : OMNIVIEWD, "--config", config.string(), "--ready-file", ready.string()};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -103,68 +111,103 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, static_cast<size_t>(p * v.size()))];
 }
 
-void BM_DaemonLoad(benchmark::State& state) {
+// A client of its own connection streaming `view` until `seconds` after `start`.
+struct Client {
+  std::string view;
+  v1::Encoding encoding = v1::JPEG;
+  bool measured = true;  // its latencies go into the percentiles
+};
+
+struct Samples {
+  std::mutex mutex;
+  std::vector<double> end_to_end_ms, daemon_ms;
+  std::atomic<int> frames{0};           // of measured clients
+  std::atomic<int> unmeasured_frames{0};
+};
+
+void stream(const Daemon& daemon, const Client& client, std::chrono::steady_clock::time_point start, double seconds,
+            Samples& samples) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(64 << 20);
+  args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // a connection each, like separate clients
+  auto stub = v1::Omniview::NewStub(grpc::CreateCustomChannel(daemon.address, grpc::InsecureChannelCredentials(), args));
+  grpc::ClientContext ctx;
+  v1::StreamFramesRequest req;
+  req.set_view(client.view);
+  req.set_encoding(client.encoding);
+  auto reader = stub->StreamFrames(&ctx, req);
+  v1::Frame f;
+  bool warm = false;
+  while (reader->Read(&f)) {
+    const auto now = Clock::now();
+    if (std::chrono::steady_clock::now() - start > std::chrono::duration<double>(seconds)) break;
+    if (!warm) {  // the first frame waits for the stream to open: not steady state
+      warm = true;
+      continue;
+    }
+    if (!client.measured) {
+      ++samples.unmeasured_frames;
+      continue;
+    }
+    // Replay stamps capture time at delivery, so this is arrival -> in the client's hands.
+    const auto captured =
+        std::chrono::seconds(f.capture_time().seconds()) + std::chrono::nanoseconds(f.capture_time().nanos());
+    const double e2e = std::chrono::duration<double, std::milli>(now.time_since_epoch() - captured).count();
+    std::lock_guard lock(samples.mutex);
+    samples.end_to_end_ms.push_back(e2e);
+    samples.daemon_ms.push_back(f.latency_ms());
+    ++samples.frames;
+  }
+  ctx.TryCancel();
+  reader->Finish();
+}
+
+// Runs `clients` against a fresh daemon for 10 s per iteration and sets the counters.
+void run_load(benchmark::State& state, const std::vector<Client>& clients) {
   const fs::path dir = fs::temp_directory_path() / ("omniview_load_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   make_recording(dir / "rec");
   Daemon daemon(dir);
   const double seconds = 10;
+  int measured = 0;
+  for (const auto& c : clients) measured += c.measured ? 1 : 0;
 
   for (auto _ : state) {
-    std::mutex mutex;
-    std::vector<double> end_to_end_ms, daemon_ms;
-    std::atomic<int> frames{0};
-    std::vector<std::thread> clients;
+    Samples samples;
+    std::vector<std::thread> threads;
     const auto cpu0 = daemon.cpu_seconds();
     const auto start = std::chrono::steady_clock::now();
-    for (int i = 0; i < 4; ++i) {
-      clients.emplace_back([&, i] {
-        grpc::ChannelArguments args;
-        args.SetMaxReceiveMessageSize(64 << 20);
-        args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);  // a connection each, like separate clients
-        auto stub = v1::Omniview::NewStub(grpc::CreateCustomChannel(daemon.address, grpc::InsecureChannelCredentials(), args));
-        grpc::ClientContext ctx;
-        v1::StreamFramesRequest req;
-        req.set_view(i % 2 ? "birdseye" : "front");
-        req.set_encoding(v1::JPEG);
-        auto reader = stub->StreamFrames(&ctx, req);
-        v1::Frame f;
-        bool warm = false;
-        while (reader->Read(&f)) {
-          const auto now = Clock::now();
-          if (std::chrono::steady_clock::now() - start > std::chrono::duration<double>(seconds)) break;
-          if (!warm) {  // the first frame waits for the stream to open: not steady state
-            warm = true;
-            continue;
-          }
-          // Replay stamps capture time at delivery, so this is arrival -> in the client's hands.
-          const auto captured = std::chrono::seconds(f.capture_time().seconds()) +
-                                std::chrono::nanoseconds(f.capture_time().nanos());
-          const double e2e = std::chrono::duration<double, std::milli>(now.time_since_epoch() - captured).count();
-          std::lock_guard lock(mutex);
-          end_to_end_ms.push_back(e2e);
-          daemon_ms.push_back(f.latency_ms());
-          ++frames;
-        }
-        ctx.TryCancel();
-        reader->Finish();
-      });
-    }
-    for (auto& c : clients) c.join();
+    for (const auto& c : clients) threads.emplace_back([&, c] { stream(daemon, c, start, seconds, samples); });
+    for (auto& t : threads) t.join();
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double cpu = daemon.cpu_seconds() - cpu0;
     state.SetIterationTime(wall);
-    state.counters["latency_p50_ms"] = percentile(end_to_end_ms, 0.5);
-    state.counters["latency_p99_ms"] = percentile(end_to_end_ms, 0.99);
-    state.counters["daemon_p50_ms"] = percentile(daemon_ms, 0.5);
-    state.counters["daemon_p99_ms"] = percentile(daemon_ms, 0.99);
+    state.counters["latency_p50_ms"] = percentile(samples.end_to_end_ms, 0.5);
+    state.counters["latency_p99_ms"] = percentile(samples.end_to_end_ms, 0.99);
+    state.counters["daemon_p50_ms"] = percentile(samples.daemon_ms, 0.5);
+    state.counters["daemon_p99_ms"] = percentile(samples.daemon_ms, 0.99);
     state.counters["daemon_cpu_pct_of_core"] = 100 * cpu / wall;
-    state.counters["fps_per_client"] = frames / wall / 4;
+    state.counters["fps_per_client"] = samples.frames / wall / measured;
+    if (measured < static_cast<int>(clients.size())) {
+      state.counters["fps_other_clients"] = samples.unmeasured_frames / wall / (clients.size() - measured);
+    }
   }
   fs::remove_all(dir);
 }
+
+void BM_DaemonLoad(benchmark::State& state) {
+  run_load(state, {{"front"}, {"birdseye"}, {"front"}, {"birdseye"}});
+}
 BENCHMARK(BM_DaemonLoad)->Iterations(1)->Repetitions(3)->UseManualTime()->Unit(benchmark::kSecond);
+
+// Two JPEG clients of `front`; with argument 1 also a PNG client of the 2048x1024 panorama.
+void BM_JpegBesidePng(benchmark::State& state) {
+  std::vector<Client> clients = {{"front"}, {"front"}};
+  if (state.range(0) == 1) clients.push_back({"panorama", v1::PNG, false});
+  run_load(state, clients);
+}
+BENCHMARK(BM_JpegBesidePng)->Arg(0)->Arg(1)->Iterations(1)->Repetitions(3)->UseManualTime()->Unit(benchmark::kSecond);
 
 }  // namespace
 }  // namespace omniview

@@ -23,7 +23,7 @@ echo "== the serving half under ThreadSanitizer =="
 cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DOMNIVIEW_TSAN=ON \
   -DOMNIVIEW_BUILD_TESTS=ON -DOMNIVIEW_BUILD_BENCH=OFF > /dev/null
 cmake --build build-tsan -j "$(nproc)" --target omniviewd omniview views_api_test streaming_test auth_test \
-  lifecycle_test clients_test rate_average_test images_source_test replay_source_test recording_test cli_client_test client_cli_test \
-  spot-mock spot_mock_test spot_daemon_test
+  lifecycle_test clients_test rate_average_test pipeline_queues_test images_source_test replay_source_test recording_test cli_client_test client_cli_test \
+  overlay_test spot-mock spot_mock_test spot_daemon_test
 OMNIVIEW_THREADS=1 TSAN_OPTIONS="suppressions=$PWD/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
   ctest --test-dir build-tsan -L server --output-on-failure -j "$(nproc)"

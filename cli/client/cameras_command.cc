@@ -41,7 +41,19 @@ int cameras_command(const std::vector<std::string>& argv) {
 
   if (response.cameras().empty()) {
     std::cout << "no cameras" << (request.source().empty() ? "" : " in source '" + request.source() + "'") << "\n";
-    return 0;
+    // A robot's cameras are known once it has answered: say why it has not.
+    grpc::ClientContext status_context;
+    connection.prepare(status_context, true);
+    v1::Status status;
+    if (connection.stub().GetStatus(&status_context, v1::GetStatusRequest(), &status).ok()) {
+      for (const auto& s : status.sources()) {
+        if (!s.connected() && (request.source().empty() || s.name() == request.source())) {
+          std::cout << "source '" << s.name() << "' is not connected" << (s.message().empty() ? "" : ": " + s.message())
+                    << "\n";
+        }
+      }
+    }
+    return 1;
   }
   Table table({"CAMERA", "SOURCE", "MODEL", "SIZE", "FOV", "FRAME", "POSITION (m)", "MASK"});
   for (const auto& c : response.cameras()) {

@@ -20,9 +20,13 @@ namespace {
 
 const std::string kHelp = std::string(R"(usage: omniview record -o DIR [--source NAME] [--frames N | --duration S]
 
-Records what a source of omniviewd delivers (every camera image, as the source encoded
-it, with capture times and the rig) into DIR, a recording the 'replay' source plays back.
-Runs until N frame sets, S seconds, or Ctrl-C.
+Records what a source of omniviewd delivers (every camera image with capture times and
+the rig) into DIR, a recording the 'replay' source plays back. Images are stored as the
+source received them (a robot's JPEG byte for byte); those it has only as pixels, as
+lossless PNG. Runs until N frame sets, S seconds, or Ctrl-C.
+
+omniviewd queues frame sets for a recording that falls behind (a slow disk) up to its
+limits.record_queue_frame_sets; beyond that it skips some, and this command says how many.
 
   -o, --output DIR   the recording folder (must not exist, or be empty)
   --source NAME      the source (default: the daemon's first)
@@ -95,6 +99,7 @@ int record_command(const std::vector<std::string>& argv) {
   const bool tty = isatty(STDOUT_FILENO);
   v1::SourceFrame frame;
   size_t written = 0;
+  uint64_t skipped = 0;  // by the daemon, before the last frame set written
   while ((wanted == 0 || written < static_cast<size_t>(wanted)) && reader->Read(&frame)) {
     if (!frame.rig_yaml().empty()) {
       // Mask paths in the rig are the daemon's; they resolve against its config folder.
@@ -107,7 +112,10 @@ int record_command(const std::vector<std::string>& argv) {
     if (!writer) writer.emplace(folder.string(), source);
     writer->write(frame.sequence(), to_time_point(frame.capture_time()), *rig, images);
     ++written;
-    if (tty && written % 10 == 0) std::cout << "\r\033[Krecorded " << written << " frame sets" << std::flush;
+    skipped = frame.skipped();
+    if (tty && written % 10 == 0) {
+      std::cout << "\r\033[Krecorded " << written << " frame sets, skipped " << skipped << std::flush;
+    }
   }
   if (tty && written >= 10) std::cout << "\n";
   if (wanted > 0 && written == static_cast<size_t>(wanted)) stopper.stop();
@@ -116,8 +124,14 @@ int record_command(const std::vector<std::string>& argv) {
   if (!(stopper.stopped() && status.error_code() == grpc::StatusCode::CANCELLED)) {
     connection.check(status, "source '" + source + "'");
   }
-  std::cout << "recorded " << written << " frame set" << (written == 1 ? "" : "s") << " of source '" << source
-            << "' to " << folder.string() << "/\n";
+  std::cout << "recorded " << written << " frame set" << (written == 1 ? "" : "s") << ", skipped " << skipped
+            << ", of source '" << source << "' to " << folder.string() << "/\n";
+  if (skipped > 0) {
+    std::cerr << "omniview record: omniviewd skipped " << skipped << " frame set" << (skipped == 1 ? "" : "s")
+              << " while this recording was behind by more than its queue (limits.record_queue_frame_sets): "
+                 "the gaps show in frames.csv's sequence numbers. A faster disk, or a lower source rate, avoids "
+                 "them.\n";
+  }
   return written > 0 ? 0 : 1;
 }
 

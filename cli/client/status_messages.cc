@@ -57,7 +57,9 @@ std::string describe_status(const grpc::Status& status, const CallContext& call,
     case grpc::StatusCode::UNAVAILABLE:
       // The daemon's own UNAVAILABLE statuses say why; only the transport's mean "unreachable".
       if (contains(msg, "shutting down")) {
-        return prefix(what) + "omniviewd at " + call.server + " is shutting down" + server_said(status) +
+        // The daemon's message is just that; say it once.
+        const bool only_that = msg == "omniviewd is shutting down";
+        return prefix(what) + "omniviewd at " + call.server + " is shutting down" + (only_that ? "" : server_said(status)) +
                "; start it again, or wait for whatever restarts it";
       }
       if (contains(msg, "not delivering")) return with_what(what, msg);

@@ -139,6 +139,10 @@ void apply_setting(const std::string& assignment, v1::ViewSpec& spec) {
       return reflection->SetInt32(&spec, field, parse_integer(value, what));
     case Type::CPPTYPE_STRING:
       return reflection->SetString(&spec, field, value);
+    case Type::CPPTYPE_BOOL:
+      if (value == "true" || value == "on" || value == "yes" || value == "1") return reflection->SetBool(&spec, field, true);
+      if (value == "false" || value == "off" || value == "no" || value == "0") return reflection->SetBool(&spec, field, false);
+      throw UsageError(what + ": expected true or false, got '" + value + "'");
     default:
       throw UsageError("--set: unknown key '" + key + "' (see 'omniview views --help')");
   }
@@ -150,7 +154,8 @@ const char* settable_keys_help() {
   width, height, frame, position=X,Y,Z, ypr_deg=YAW,PITCH,ROLL, yaw_deg (pan), pitch_deg
   (tilt, positive looks down), roll_deg (roll), hfov_deg (hfov), distance, height_m,
   ground_z, radius, vfov_deg (vfov), azimuth_span_deg, lat_min_deg, lat_max_deg,
-  fov_deg (fov), fusion (nearest|blend), feather_px
+  fov_deg (fov), fusion (nearest|blend), feather_px, overlay (true|false: draw the robot
+  into a perspective or birdseye view), overlay_opacity (0..1)
 )";
 }
 

@@ -1,10 +1,13 @@
 // `omniview views list|get|create|update|delete`.
+#include <algorithm>
+#include <cctype>
 #include <iostream>
 
 #include "cli/client/client_commands.h"
 #include "cli/client/command_support.h"
 #include "cli/client/connection.h"
 #include "cli/client/view_spec_proto.h"
+#include "core/io/yaml_reader.h"
 #include "core/view/view_spec.h"
 
 namespace omniview::cli {
@@ -59,12 +62,44 @@ std::string fov_text(const v1::ViewSpec& s) {
   }
 }
 
-// Specs from --file and --set: one per view in the file, or one from --set alone.
-std::vector<v1::ViewSpec> specs_from_args(const Args& args) {
+// `views update --file` takes only the keys to change, but the view schema needs `type`:
+// a view map without one gets the type the view has now (VIEW, or the map's `name`).
+std::vector<v1::ViewSpec> load_update_file(Connection& connection, const std::string& file, const std::string& target) {
+  const auto reader = YamlReader::from_file(file);
+  YAML::Node root = reader.root();
+  std::vector<YAML::Node> maps;
+  if (root.IsMap() && root["views"] && root["views"].IsSequence()) {
+    for (auto n : root["views"]) maps.push_back(n);
+  } else if (root.IsMap()) {
+    maps.push_back(root);
+  }
+  for (auto& n : maps) {
+    if (!n.IsMap() || n["type"]) continue;
+    const std::string name = !target.empty() ? target : (n["name"] && n["name"].IsScalar() ? n["name"].Scalar() : "");
+    if (name.empty()) continue;  // the parser says what is missing
+    v1::GetViewRequest get;
+    get.set_name(name);
+    v1::View view;
+    grpc::ClientContext context;
+    connection.prepare(context, true);
+    connection.check(connection.stub().GetView(&context, get, &view), view_label(name));
+    std::string type = v1::ViewType_Name(view.spec().type());
+    std::transform(type.begin(), type.end(), type.begin(), [](unsigned char c) { return std::tolower(c); });
+    n["type"] = type;
+  }
+  return views_from_yaml(reader);
+}
+
+// Specs from --file and --set: one per view in the file, or one from --set alone. For an
+// update, `connection` fills in the types a partial file leaves out.
+std::vector<v1::ViewSpec> specs_from_args(const Args& args, Connection* connection = nullptr,
+                                          const std::string& target = "") {
   std::vector<v1::ViewSpec> specs;
   if (args.has("file")) {
     for (const auto& file : args.all("file")) {
-      for (auto& spec : load_view_file(file)) specs.push_back(std::move(spec));
+      for (auto& spec : connection ? load_update_file(*connection, file, target) : load_view_file(file)) {
+        specs.push_back(std::move(spec));
+      }
     }
   } else {
     specs.emplace_back();
@@ -150,12 +185,12 @@ int update(Connection& connection, const Args& args) {
   if (positional.size() > 2) throw UsageError("unexpected argument '" + positional[2] + "'");
   std::vector<std::pair<std::string, v1::ViewSpec>> updates;  // target name, changes
   if (positional.size() == 2) {
-    auto specs = specs_from_args(args);
+    auto specs = specs_from_args(args, &connection, positional[1]);
     if (specs.size() != 1) throw UsageError("the file holds several views: leave out VIEW to update each by name");
     updates.emplace_back(positional[1], specs[0]);
   } else {
     if (!args.has("file")) throw UsageError("missing VIEW (the view to update)");
-    for (const auto& spec : specs_from_args(args)) {
+    for (const auto& spec : specs_from_args(args, &connection)) {
       if (!spec.has_name()) throw UsageError("a view in the file has no name: give VIEW, or add 'name:'");
       updates.emplace_back(spec.name(), spec);
     }

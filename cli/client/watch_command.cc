@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <iostream>
+#include <mutex>
 
 #include "cli/client/client_commands.h"
 #include "cli/client/command_support.h"
 #include "cli/client/connection.h"
 #include "cli/client/frame_files.h"
+#include "cli/client/stall_reporter.h"
 
 namespace omniview::cli {
 namespace {
@@ -80,7 +82,14 @@ int watch_command(const std::vector<std::string>& argv) {
   Window window;
   v1::Frame frame, last;
   uint64_t frames_total = 0, skipped_total = 0, last_sequence = 0;
+  std::mutex output;  // the stall reporter prints from its own thread
+  const auto print = [&](const std::string& text) {
+    std::lock_guard lock(output);
+    std::cout << (tty ? "\r\033[K" + text : text + "\n") << std::flush;
+  };
+  StallReporter stall(connection, request.view(), print);
   while (reader->Read(&frame)) {
+    stall.frame_arrived();
     const double arrival_s = now_seconds();
     if (frames_total > 0 && frame.sequence() > last_sequence + 1) {
       window.skipped += frame.sequence() - last_sequence - 1;
@@ -95,8 +104,7 @@ int watch_command(const std::vector<std::string>& argv) {
     last = std::move(frame);
     const double seconds = std::chrono::duration<double>(Clock::now() - window_start).count();
     if (seconds >= 1) {
-      const std::string text = line(request.view(), window, seconds, last, skipped_total);
-      std::cout << (tty ? "\r\033[K" + text : text + "\n") << std::flush;
+      print(line(request.view(), window, seconds, last, skipped_total));
       window.clear();
       window_start = Clock::now();
     }

@@ -49,6 +49,11 @@ struct ViewSpec {
   Fusion fusion = Fusion::kNearestCentre;
   double feather_px = 24;      // blend: distance from a camera's usable border at full weight
 
+  // The robot drawn into the view (perspective and birdseye: pinhole views) where the
+  // daemon has a robot model for the view's source; opacity in [0, 1].
+  bool overlay = false;
+  double overlay_opacity = 0.8;
+
   // Pose of the view frame in `frame` (for birdseye, its z is ground_z + height_m).
   Pose T_frame_view() const;
 };

@@ -50,7 +50,7 @@ void reject_repeated_names(const YamlReader& r, const YAML::Node& list, const st
 ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string& path) {
   r.expect_keys(n, path, {"name", "type", "width", "height", "frame", "pose", "hfov_deg", "distance", "height_m",
                           "ground_z", "radius", "vfov_deg", "azimuth_span_deg", "lat_min_deg", "lat_max_deg",
-                          "fov_deg", "fusion", "feather_px", "source"});
+                          "fov_deg", "fusion", "feather_px", "source", "overlay", "overlay_opacity"});
   const auto key = [&](const char* k) { return path.empty() ? std::string(k) : path + "." + k; };
   ViewSpec s = default_view_spec([&] {
     const YAML::Node t = r.required(n, "type", path);
@@ -84,10 +84,11 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
       {"hfov_deg", &s.hfov_deg},         {"distance", &s.distance},       {"height_m", &s.height_m},
       {"ground_z", &s.ground_z},         {"radius", &s.radius},           {"vfov_deg", &s.vfov_deg},
       {"azimuth_span_deg", &s.azimuth_span_deg}, {"lat_min_deg", &s.lat_min_deg}, {"lat_max_deg", &s.lat_max_deg},
-      {"fov_deg", &s.fov_deg},           {"feather_px", &s.feather_px}};
+      {"fov_deg", &s.fov_deg},           {"feather_px", &s.feather_px},   {"overlay_opacity", &s.overlay_opacity}};
   for (const auto& [k, field] : numbers) {
     if (n[k]) *field = r.number(n[k], key(k));
   }
+  if (n["overlay"]) s.overlay = r.boolean(n["overlay"], key("overlay"));
   if (n["fusion"]) {
     try {
       s.fusion = fusion_from_string(r.text(n["fusion"], key("fusion")), "");
@@ -162,6 +163,10 @@ YAML::Node view_to_yaml(const ViewSpec& s) {
   }
   n["fusion"] = to_string(s.fusion);
   n["feather_px"] = s.feather_px;
+  if (s.type == ViewType::kPerspective || s.type == ViewType::kBirdseye) {
+    n["overlay"] = s.overlay;
+    n["overlay_opacity"] = s.overlay_opacity;
+  }
   return n;
 }
 

@@ -37,6 +37,40 @@ grpc::Status guarded(F&& body) {
 
 constexpr auto kPoll = std::chrono::milliseconds(100);  // how often a waiting stream checks for cancellation
 
+// A frame set as StreamSourceFrames sends it: the source's encoded bytes where it kept
+// them (a robot's JPEG: no loss, no work), lossless PNG otherwise.
+v1::SourceFrame to_source_frame(const FrameSet& frames, uint64_t skipped_before, bool with_rig) {
+  v1::SourceFrame out;
+  out.set_sequence(frames.sequence);
+  out.set_skipped(skipped_before);
+  *out.mutable_capture_time() = google::protobuf::util::TimeUtil::NanosecondsToTimestamp(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(frames.capture_time.time_since_epoch()).count());
+  if (with_rig) out.set_rig_yaml(rig_to_yaml(*frames.rig));
+  const auto& cams = frames.rig->cameras();
+  for (size_t i = 0; i < frames.images.size() && i < cams.size(); ++i) {
+    const cv::Mat& img = frames.images[i];
+    if (img.empty()) continue;
+    auto* image = out.add_images();
+    image->set_camera(cams[i].name);
+    image->set_width(img.cols);
+    image->set_height(img.rows);
+    image->set_channels(img.channels());
+    const EncodedImage* encoded = i < frames.encoded.size() ? &frames.encoded[i] : nullptr;
+    if (encoded && encoded->bytes && (encoded->format == "jpeg" || encoded->format == "png")) {
+      image->set_encoding(encoded->format == "png" ? v1::PNG : v1::JPEG);
+      image->set_data(encoded->bytes->data(), encoded->bytes->size());
+      continue;
+    }
+    std::vector<uint8_t> png;
+    if (!cv::imencode(".png", img, png, {cv::IMWRITE_PNG_COMPRESSION, 1})) {
+      throw std::runtime_error("cannot PNG-encode the image of camera '" + cams[i].name + "'");
+    }
+    image->set_encoding(v1::PNG);
+    image->set_data(png.data(), png.size());
+  }
+  return out;
+}
+
 }  // namespace
 
 class OmniviewService::StreamSlot {
@@ -256,42 +290,15 @@ grpc::Status OmniviewService::StreamSourceFrames(grpc::ServerContext* ctx, const
       const FrameSetTap* t;
       ~Untap() { p.untap(source, t); }
     } untap{pipeline_, source, tap.get()};
-    const Rig* last_rig = nullptr;
+    std::shared_ptr<const Rig> last_rig;  // held: a new rig never reuses its address unseen
     while (true) {
       if (ctx->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "client cancelled");
       const auto next = tap->take(kPoll);
       if (!next) continue;
-      const auto& frames = *next;
-      if (!frames) return grpc::Status(grpc::StatusCode::UNAVAILABLE, tap->close_reason());
-      v1::SourceFrame out;
-      out.set_sequence(frames->sequence);
-      *out.mutable_capture_time() = google::protobuf::util::TimeUtil::NanosecondsToTimestamp(
-          std::chrono::duration_cast<std::chrono::nanoseconds>(frames->capture_time.time_since_epoch()).count());
-      if (frames->rig.get() != last_rig) {
-        out.set_rig_yaml(rig_to_yaml(*frames->rig));
-        last_rig = frames->rig.get();
-      }
-      const auto& cams = frames->rig->cameras();
-      for (size_t i = 0; i < frames->images.size() && i < cams.size(); ++i) {
-        const cv::Mat& img = frames->images[i];
-        if (img.empty()) continue;
-        auto* image = out.add_images();
-        image->set_camera(cams[i].name);
-        image->set_width(img.cols);
-        image->set_height(img.rows);
-        image->set_channels(img.channels());
-        const bool have_encoded = i < frames->encoded.size() && frames->encoded[i].bytes;
-        if (have_encoded) {  // the robot's own JPEG: no loss, no work
-          const auto& e = frames->encoded[i];
-          image->set_encoding(e.format == "png" ? v1::PNG : v1::JPEG);
-          image->set_data(e.bytes->data(), e.bytes->size());
-        } else {
-          std::vector<uint8_t> png;
-          cv::imencode(".png", img, png, {cv::IMWRITE_PNG_COMPRESSION, 1});
-          image->set_encoding(v1::PNG);
-          image->set_data(png.data(), png.size());
-        }
-      }
+      if (!next->frames) return grpc::Status(grpc::StatusCode::UNAVAILABLE, tap->close_reason());
+      const bool new_rig = next->frames->rig != last_rig;
+      last_rig = next->frames->rig;
+      const v1::SourceFrame out = to_source_frame(*next->frames, next->skipped_before, new_rig);
       if (!writer->Write(out)) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
     }
   });

@@ -21,4 +21,7 @@ std::vector<SourceEntry> parse_sources(const YamlReader& reader, const YAML::Nod
 std::vector<ViewSpec> parse_daemon_views(const YamlReader& reader, const YAML::Node& node,
                                          const std::vector<SourceEntry>& sources, const Limits& limits);
 
+std::vector<RobotModelEntry> parse_robot_models(const YamlReader& reader, const YAML::Node& node,
+                                                const std::vector<SourceEntry>& sources, const std::string& folder);
+
 }  // namespace omniview::config_parts

@@ -48,7 +48,8 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   const YamlReader& r = *shared;
   const YAML::Node root = r.root();
   if (!root.IsMap()) r.fail(root, "", "expected a map with listen, sources, views, ...");
-  r.expect_keys(root, "", {"listen", "tls", "tokens", "allow_insecure_remote", "limits", "sources", "views"});
+  r.expect_keys(root, "", {"listen", "tls", "tokens", "allow_insecure_remote", "limits", "sources", "views",
+                          "robot_models"});
 
   DaemonConfig config;
   config.file = r.file();
@@ -66,6 +67,7 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   config.limits = parse_limits(r, root["limits"]);
   config.sources = parse_sources(r, root["sources"]);
   config.views = parse_daemon_views(r, root["views"], config.sources, config.limits);
+  config.robot_models = parse_robot_models(r, root["robot_models"], config.sources, folder);
   check_exposure(r, config);
   return config;
 }

@@ -7,16 +7,19 @@
 //     - {role: viewer, token_file: viewer.token}
 //   allow_insecure_remote: false   # plaintext on a non-loopback address needs this
 //   limits: {max_view_pixels, max_views, max_streams_per_client, max_streams,
-//            max_message_bytes, max_rate_hz}
+//            max_message_bytes, max_rate_hz, record_queue_frame_sets, record_queue_mb}
 //   sources:
 //     - {name: examples, type: images, ...}          # the type's own keys, see source types
 //   views:                                            # the view YAML schema, plus `source`
 //     - {name: front, type: perspective, ...}
+//   robot_models:                                     # optional: the robot drawn into views
+//     - {source: spot, urdf: robot.urdf, mesh_path: [meshes], frame: body, joints: {...}}
 //
 // Relative paths resolve against the config file's folder. Every error names the file, the
 // line and the key, and the daemon refuses to start.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -51,6 +54,8 @@ struct Limits {
   int max_streams = 64;                     // concurrent frame streams in all
   int max_message_bytes = 64 << 20;         // largest gRPC message either way
   double max_rate_hz = 60;                  // cap on a stream's max_rate_hz
+  int record_queue_frame_sets = 32;         // queued per recording client before it skips
+  int record_queue_mb = 256;                // and the MiB of images those may hold
 };
 
 struct SourceEntry {
@@ -58,6 +63,18 @@ struct SourceEntry {
   std::string type;
   YAML::Node node;   // the source's map (its type's keys are read by the source factory)
   std::string path;  // YAML path, e.g. "sources[0]"
+};
+
+// A robot drawn into the views of one source (views with `overlay: true`).
+struct RobotModelEntry {
+  std::string source;                  // whose views
+  std::string urdf_file;               // resolved against the config's folder
+  std::vector<std::string> mesh_path;  // folders for package:// and relative mesh URIs
+  std::string frame;                   // the rig frame the URDF's root link sits at (empty: the rig's own)
+  std::map<std::string, double> joints;  // positions of joints the source does not report
+  int outline_px = 1;
+  YAML::Node node;   // for errors found when the model loads
+  std::string path;  // e.g. "robot_models[0]"
 };
 
 struct DaemonConfig {
@@ -70,6 +87,7 @@ struct DaemonConfig {
   Limits limits;
   std::vector<SourceEntry> sources;  // at least one
   std::vector<ViewSpec> views;       // each view's `source` is set (defaults to the first source)
+  std::vector<RobotModelEntry> robot_models;
   std::shared_ptr<const YamlReader> reader;  // keeps the nodes above readable, for errors
 };
 

@@ -15,6 +15,8 @@ constexpr int kMaxViewsCeiling = 1024;
 constexpr int kMaxStreamsCeiling = 10000;
 constexpr int kMinMessageBytes = 64 << 10;  // a request, or a small JPEG, must always fit
 constexpr double kMaxRateCeilingHz = 1000;
+constexpr int kMaxRecordQueueFrameSets = 10000;
+constexpr int kMaxRecordQueueMb = 65536;
 
 int64_t integer_in(const YamlReader& r, const YAML::Node& n, const std::string& path, int64_t lo, int64_t hi) {
   const int64_t v = r.integer(n, path);
@@ -30,7 +32,7 @@ Limits parse_limits(const YamlReader& r, const YAML::Node& n) {
   Limits limits;
   if (!n.IsDefined() || n.IsNull()) return limits;
   r.expect_keys(n, "limits", {"max_view_pixels", "max_views", "max_streams_per_client", "max_streams",
-                              "max_message_bytes", "max_rate_hz"});
+                              "max_message_bytes", "max_rate_hz", "record_queue_frame_sets", "record_queue_mb"});
   if (n["max_view_pixels"]) {
     limits.max_view_pixels = integer_in(r, n["max_view_pixels"], "limits.max_view_pixels", 1, kMaxViewPixelsCeiling);
   }
@@ -63,6 +65,14 @@ Limits parse_limits(const YamlReader& r, const YAML::Node& n) {
                  n["max_rate_hz"].Scalar());
     }
     limits.max_rate_hz = hz;
+  }
+  if (n["record_queue_frame_sets"]) {
+    limits.record_queue_frame_sets = static_cast<int>(integer_in(
+        r, n["record_queue_frame_sets"], "limits.record_queue_frame_sets", 1, kMaxRecordQueueFrameSets));
+  }
+  if (n["record_queue_mb"]) {
+    limits.record_queue_mb =
+        static_cast<int>(integer_in(r, n["record_queue_mb"], "limits.record_queue_mb", 1, kMaxRecordQueueMb));
   }
   return limits;
 }

@@ -104,6 +104,8 @@ v1::ViewSpec to_proto(const ViewSpec& s) {
   p.set_fov_deg(s.fov_deg);
   p.set_fusion(to_proto(s.fusion));
   p.set_feather_px(s.feather_px);
+  p.set_overlay(s.overlay);
+  p.set_overlay_opacity(s.overlay_opacity);
   return p;
 }
 
@@ -164,11 +166,13 @@ void apply_patch(const v1::ViewSpec& p, ViewSpec& s) {
       {&v1::ViewSpec::has_lat_max_deg, {&v1::ViewSpec::lat_max_deg, &s.lat_max_deg}},
       {&v1::ViewSpec::has_fov_deg, {&v1::ViewSpec::fov_deg, &s.fov_deg}},
       {&v1::ViewSpec::has_feather_px, {&v1::ViewSpec::feather_px, &s.feather_px}},
+      {&v1::ViewSpec::has_overlay_opacity, {&v1::ViewSpec::overlay_opacity, &s.overlay_opacity}},
   };
   for (const auto& [has, get_and_field] : numbers) {
     if ((p.*has)()) *get_and_field.second = (p.*(get_and_field.first))();
   }
   if (p.has_fusion()) s.fusion = from_proto(p.fusion(), what);
+  if (p.has_overlay()) s.overlay = p.overlay();
   reject_inapplicable_changes(p, before, s);
 }
 

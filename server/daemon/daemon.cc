@@ -4,6 +4,7 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <grpcpp/server_builder.h>
 
+#include "core/robot/model/urdf_loader.h"
 #include "server/auth/server_credentials.h"
 #include "server/source/source_registry.h"
 
@@ -17,6 +18,19 @@ std::string with_port(const std::string& listen, int port) {
   return listen.substr(0, colon + 1) + std::to_string(port);
 }
 
+// The URDF with its meshes, and the config's joint positions checked against it.
+std::shared_ptr<const RobotModelSetup> load_robot_model(const RobotModelEntry& entry) {
+  auto setup = std::make_shared<RobotModelSetup>();
+  setup->model = std::make_shared<const robot::RobotModel>(
+      robot::load_urdf_file(entry.urdf_file, robot::MeshSearchPath({entry.mesh_path.begin(), entry.mesh_path.end()})));
+  auto positions = setup->model->zero_positions();
+  setup->model->apply(entry.joints, positions);  // names a joint the URDF lacks: an error here
+  setup->frame = entry.frame;
+  setup->fixed_joints = entry.joints;
+  setup->style.outline_px = entry.outline_px;
+  return setup;
+}
+
 }  // namespace
 
 Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
@@ -24,6 +38,8 @@ Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
   PipelineLimits limits;
   limits.max_view_pixels = config_.limits.max_view_pixels;
   limits.max_views = config_.limits.max_views;
+  limits.record_queue.max_frame_sets = static_cast<size_t>(config_.limits.record_queue_frame_sets);
+  limits.record_queue.max_bytes = static_cast<size_t>(config_.limits.record_queue_mb) << 20;
   pipeline_ = std::make_unique<Pipeline>(limits);
 
   for (const auto& s : config_.sources) {
@@ -37,6 +53,13 @@ Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
       reader.fail(s.node, s.path, "source '" + s.name + "' cannot start: " + e.what());
     } catch (const std::exception& e) {
       reader.fail(s.node, s.path, "source '" + s.name + "' cannot start: " + e.what());
+    }
+  }
+  for (const auto& m : config_.robot_models) {
+    try {
+      pipeline_->set_robot_model(m.source, load_robot_model(m));
+    } catch (const std::exception& e) {
+      reader.fail(m.node, m.path, "robot model for source '" + m.source + "': " + e.what());
     }
   }
   for (size_t i = 0; i < config_.views.size(); ++i) {

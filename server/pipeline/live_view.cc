@@ -12,8 +12,20 @@ void LiveView::add_subscriber(std::shared_ptr<Subscriber> s) {
 }
 
 void LiveView::remove_subscriber(const Subscriber* s) {
-  std::lock_guard lock(mutex_);
-  std::erase_if(subscribers_, [&](const auto& p) { return p.get() == s; });
+  std::vector<std::shared_ptr<Subscriber>> removed;
+  {
+    std::lock_guard lock(mutex_);
+    for (auto it = subscribers_.begin(); it != subscribers_.end();) {
+      if (it->get() == s) {
+        removed.push_back(std::move(*it));
+        it = subscribers_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  // Encodes in flight may still hold it: closed, it refuses their frames.
+  for (const auto& r : removed) r->close(grpc::StatusCode::CANCELLED, "left the stream");
 }
 
 std::vector<std::shared_ptr<Subscriber>> LiveView::subscribers() const {
@@ -50,6 +62,12 @@ void LiveView::record_frame(double latency_ms, std::chrono::steady_clock::time_p
 ViewStats LiveView::stats() const {
   std::lock_guard lock(mutex_);
   return stats_;
+}
+
+ViewOverlay& LiveView::overlay(const std::shared_ptr<const RobotModelSetup>& setup) {
+  std::lock_guard lock(mutex_);
+  if (!overlay_) overlay_ = std::make_unique<ViewOverlay>(setup);
+  return *overlay_;
 }
 
 }  // namespace omniview

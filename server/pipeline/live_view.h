@@ -15,6 +15,7 @@
 #include "core/rig/rig.h"
 #include "core/view/view.h"
 #include "omniview/v1/omniview.pb.h"
+#include "server/pipeline/robot_layer.h"
 #include "server/pipeline/subscriber.h"
 
 namespace omniview {
@@ -63,6 +64,10 @@ class LiveView {
   size_t subscriber_count() const;
   void close_all(grpc::StatusCode code, const std::string& reason);
 
+  // The view's robot layer (views with overlay on), made on first use and kept across
+  // revisions, so a robot that did not move is not drawn again.
+  ViewOverlay& overlay(const std::shared_ptr<const RobotModelSetup>& setup);
+
   void record_map_build(double ms);
   void record_frame(double latency_ms, std::chrono::steady_clock::time_point now);
   ViewStats stats() const;
@@ -73,6 +78,7 @@ class LiveView {
   std::shared_ptr<const ViewState> state_;
   std::vector<std::shared_ptr<Subscriber>> subscribers_;
   ViewStats stats_;
+  std::unique_ptr<ViewOverlay> overlay_;
 };
 
 }  // namespace omniview

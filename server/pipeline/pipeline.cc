@@ -3,14 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <thread>
 
-#include <google/protobuf/util/time_util.h>
 #include <opencv2/core.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include "core/map/apply.h"
 #include "core/view/view_yaml.h"
 #include "server/convert/convert.h"
+#include "server/pipeline/frame_delivery.h"
 #include "server/pipeline/frame_encoder.h"
 
 namespace omniview {
@@ -21,10 +22,10 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-google::protobuf::Timestamp to_timestamp(std::chrono::system_clock::time_point t) {
-  return google::protobuf::util::TimeUtil::NanosecondsToTimestamp(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count());
-}
+// Encoder threads: on a 2-core robot computer two cheap-lane threads (two views' JPEGs at
+// once) and one expensive-lane thread; more on bigger machines.
+int fast_encoder_threads() { return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 2, 4); }
+int slow_encoder_threads() { return std::clamp(static_cast<int>(std::thread::hardware_concurrency()) / 2, 1, 2); }
 
 }  // namespace
 
@@ -40,8 +41,14 @@ void Pipeline::add_source(std::unique_ptr<Source> source) {
   channels_.push_back(std::make_unique<SourceChannel>(std::move(source)));
 }
 
+void Pipeline::set_robot_model(const std::string& source, std::shared_ptr<const RobotModelSetup> setup) {
+  channel(source);  // NOT_FOUND for an unknown source
+  robot_models_[source] = std::move(setup);
+}
+
 void Pipeline::start() {
   if (started_flag_.exchange(true)) return;
+  encoder_ = std::make_unique<EncoderPool>(fast_encoder_threads(), slow_encoder_threads());
   rebuild_thread_ = std::thread([this] { rebuild_worker(); });
   for (auto& c : channels_) {
     SourceChannel* ch = c.get();
@@ -62,6 +69,9 @@ void Pipeline::stop(const std::string& reason) {
   for (auto& c : channels_) c->source().stop();
   for (auto& c : channels_) c->close();
   for (auto& w : workers_) w.join();
+  // After the render workers: nothing submits any more. Encodes in flight finish and offer
+  // to subscribers that are closed by now, which refuse them.
+  encoder_->stop();
   {
     std::lock_guard lock(rebuild_mutex_);
   }
@@ -130,6 +140,11 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
   } catch (const std::invalid_argument& e) {
     throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
   }
+  if (spec.overlay && !robot_models_.count(spec.source)) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
+                   what + ": overlay needs a robot model for source '" + spec.source +
+                       "' (robot_models in the daemon's config), and it has none");
+  }
   state->rig = rig(spec.source);
   const Rig& r = *state->rig;
   const std::string frame = spec.frame.empty() ? r.default_frame() : spec.frame;
@@ -157,6 +172,7 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
   const Pose T_robot_view = r.frames().lookup(r.default_frame(), frame) * spec.T_frame_view();
   *d->mutable_pose() = to_proto(T_robot_view);
   YAML::Emitter yaml;
+  yaml.SetDoublePrecision(12);  // 0.42, not 0.41999999999999998: people read and edit it
   yaml << view_to_yaml(spec);
   d->set_yaml(yaml.c_str());
   state->T_robot_view = T_robot_view;
@@ -319,7 +335,7 @@ void Pipeline::unsubscribe(const std::string& name, const Subscriber* subscriber
 std::shared_ptr<FrameSetTap> Pipeline::tap(const std::string& source) {
   if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
   SourceChannel& ch = channel(source);
-  auto t = std::make_shared<FrameSetTap>();
+  auto t = std::make_shared<FrameSetTap>(limits_.record_queue);
   ch.add_tap(t);
   update_wanted_cameras(ch.source().name());
   return t;
@@ -379,19 +395,26 @@ void Pipeline::render_worker(SourceChannel* ch) {
     // One view per task; apply_map inside runs single-threaded when nested, which is what
     // we want with several views, and uses the pool alone when there is one.
     cv::parallel_for_(cv::Range(0, static_cast<int>(views.size())), [&](const cv::Range& range) {
-      for (int i = range.start; i < range.end; ++i) render_view(*views[i], *frames);
+      for (int i = range.start; i < range.end; ++i) render_view(views[i], *frames);
     });
   }
 }
 
-void Pipeline::render_view(LiveView& view, const FrameSet& frames) {
-  const auto state = view.state();
+void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet& frames) {
+  const auto state = view->state();
   if (frames.rig && frames.rig != state->rig) request_rebuild(state->spec.name);
   const auto now = Clock::now();
   std::map<EncodingKey, std::vector<std::shared_ptr<Subscriber>>> groups;
-  for (auto& s : view.subscribers()) {
+  for (auto& s : view->subscribers()) {
     if (s->due(now)) groups[s->key()].push_back(s);
   }
+  // An encoding that is behind (a PNG of a big view) still has a frame waiting: it gets
+  // that one, and this frame set costs it nothing, not even the map's apply.
+  std::erase_if(groups, [&](const auto& group) {
+    if (!encoder_->behind(view.get(), group.first)) return false;
+    for (const auto& s : group.second) s->count_dropped();
+    return true;
+  });
   if (groups.empty()) return;
 
   const FusionMap& map = *state->map;
@@ -402,35 +425,40 @@ void Pipeline::render_view(LiveView& view, const FrameSet& frames) {
     if (i >= frames.images.size() || frames.images[i].empty()) return;
     channels = std::max(channels, frames.images[i].channels());
   }
-  cv::Mat image;
+  auto rendered = std::make_shared<RenderedFrame>();
   try {
-    apply_map(map, frames.images, image, channels);
+    apply_map(map, frames.images, rendered->image, channels);
   } catch (const std::exception& e) {
     // Images that do not fit the map (a rig change in flight): skip until the rebuild.
     request_rebuild(state->spec.name);
     return;
   }
-  double latency_ms = 0;
-  for (auto& [key, subscribers] : groups) {
-    auto frame = std::make_shared<v1::Frame>();
-    frame->set_view(state->spec.name);
-    frame->set_sequence(frames.sequence);
-    *frame->mutable_capture_time() = to_timestamp(frames.capture_time);
-    *frame->mutable_camera() = *state->description;
-    frame->set_coverage(state->coverage);
-    try {
-      encode_frame(image, key, *frame);
-    } catch (const std::exception& e) {
-      for (auto& s : subscribers) s->close(grpc::StatusCode::INTERNAL, std::string("cannot encode frames: ") + e.what());
-      continue;
+  if (state->spec.overlay) {
+    if (const auto it = robot_models_.find(state->spec.source); it != robot_models_.end()) {
+      const Rig& rig = frames.rig ? *frames.rig : *state->rig;
+      try {
+        view->overlay(it->second).draw(rendered->image, state->spec, rig, frames.joints);
+      } catch (const std::exception& e) {
+        // A render that fails (say, OSMesa out of memory) must not cost the view its frames.
+        std::cerr << "omniviewd: view '" << state->spec.name << "': robot overlay skipped: " << e.what() << "\n";
+      }
     }
-    latency_ms = ms_since(frames.arrival);
-    frame->set_latency_ms(latency_ms);
-    const auto offered = Clock::now();
-    SharedFrame shared = std::move(frame);
-    for (auto& s : subscribers) s->offer(shared, offered);
   }
-  view.record_frame(latency_ms, Clock::now());
+  rendered->sequence = frames.sequence;
+  rendered->capture_time = frames.capture_time;
+  rendered->arrival = frames.arrival;
+  // Encoding is the encoder pool's: this thread goes on to the next view or frame set.
+  const int width = rendered->image.cols, height = rendered->image.rows;
+  for (auto& [key, subscribers] : groups) {
+    EncoderPool::Job job;
+    job.run = [view, state, rendered, key, subscribers] {
+      encode_and_offer(*view, *state, *rendered, key, subscribers);
+    };
+    job.dropped = [subscribers] {
+      for (const auto& s : subscribers) s->count_dropped();
+    };
+    encoder_->submit(view.get(), key, EncoderPool::expensive(key, width, height), std::move(job));
+  }
 }
 
 void Pipeline::request_rebuild(const std::string& view) {

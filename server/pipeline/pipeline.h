@@ -2,8 +2,10 @@
 //
 //   source thread ──deliver──▶ SourceChannel slot ──▶ render worker (one per source)
 //        for each view of that source with a subscriber whose rate is due:
-//          apply the view's current map → encode once per EncodingKey → offer to each
-//          subscriber's latest-frame slot (never waits on a client)
+//          apply the view's current map → hand the image to the encoder pool, one job per
+//          EncodingKey (encoder_pool.h) and go on to the next frame set
+//   encoder thread: encode once per EncodingKey → offer to each subscriber's latest-frame
+//          slot (never waits on a client); cheap and expensive encodings in separate lanes
 //   create/update (RPC thread): build the new map there, then swap it in atomically
 //   rig change (new extrinsics): a map thread rebuilds; frames keep the old map meanwhile
 //
@@ -23,7 +25,9 @@
 
 #include "omniview/v1/omniview.pb.h"
 #include "server/pipeline/api_error.h"
+#include "server/pipeline/encoder_pool.h"
 #include "server/pipeline/live_view.h"
+#include "server/pipeline/robot_layer.h"
 #include "server/pipeline/source_channel.h"
 #include "server/pipeline/subscriber.h"
 
@@ -32,6 +36,7 @@ namespace omniview {
 struct PipelineLimits {
   int64_t max_view_pixels = 4096LL * 4096;
   int max_views = 32;
+  TapLimits record_queue;  // per recording client (StreamSourceFrames)
 };
 
 class Pipeline {
@@ -43,6 +48,8 @@ class Pipeline {
 
   // Before start(). The first source added is the default for views that name none.
   void add_source(std::unique_ptr<Source> source);
+  // The robot drawn into `source`'s views that ask for it (overlay on). Before start().
+  void set_robot_model(const std::string& source, std::shared_ptr<const RobotModelSetup> setup);
   void start();
   // Ends every stream with `reason`, stops the sources and joins all threads. Idempotent.
   void stop(const std::string& reason);
@@ -74,13 +81,15 @@ class Pipeline {
   std::shared_ptr<const ViewState> build_state(const ViewSpec& spec, uint64_t revision) const;
   void update_wanted_cameras(const std::string& source);
   void render_worker(SourceChannel* channel);
-  void render_view(LiveView& view, const FrameSet& frames);
+  void render_view(const std::shared_ptr<LiveView>& view, const FrameSet& frames);
   void rebuild_worker();
   void request_rebuild(const std::string& view);
 
   const PipelineLimits limits_;
   std::vector<std::unique_ptr<SourceChannel>> channels_;
+  std::map<std::string, std::shared_ptr<const RobotModelSetup>> robot_models_;  // by source; fixed after start
   std::vector<std::thread> workers_;
+  std::unique_ptr<EncoderPool> encoder_;  // from start(); stopped after the render workers
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 
   mutable std::mutex views_mutex_;

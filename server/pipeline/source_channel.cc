@@ -6,44 +6,6 @@
 
 namespace omniview {
 
-void FrameSetTap::offer(std::shared_ptr<const FrameSet> frames) {
-  {
-    std::lock_guard lock(mutex_);
-    if (closed_) return;
-    if (slot_) ++dropped_;
-    slot_ = std::move(frames);
-  }
-  ready_.notify_one();
-}
-
-void FrameSetTap::close(const std::string& reason) {
-  {
-    std::lock_guard lock(mutex_);
-    if (closed_) return;
-    closed_ = true;
-    reason_ = reason;
-  }
-  ready_.notify_all();
-}
-
-std::optional<std::shared_ptr<const FrameSet>> FrameSetTap::take(std::chrono::milliseconds timeout) {
-  std::unique_lock lock(mutex_);
-  ready_.wait_for(lock, timeout, [&] { return slot_ || closed_; });
-  if (slot_) return std::exchange(slot_, nullptr);
-  if (closed_) return std::shared_ptr<const FrameSet>{};
-  return std::nullopt;
-}
-
-std::string FrameSetTap::close_reason() const {
-  std::lock_guard lock(mutex_);
-  return reason_;
-}
-
-uint64_t FrameSetTap::dropped() const {
-  std::lock_guard lock(mutex_);
-  return dropped_;
-}
-
 void SourceChannel::deliver(std::shared_ptr<const FrameSet> frames) {
   std::vector<std::shared_ptr<FrameSetTap>> taps;
   {

@@ -3,38 +3,20 @@
 //
 // If frame sets come faster than the worker renders them the slot keeps only the newest
 // (the skipped ones are counted as dropped): an operator wants the present, not a queue.
+// Recordings are the exception: each has its own bounded queue (frame_set_tap.h).
 #pragma once
 
 #include <chrono>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
-#include <optional>
 #include <string>
 #include <vector>
 
+#include "server/pipeline/frame_set_tap.h"
 #include "server/source/source.h"
 
 namespace omniview {
-
-// A client recording what a source delivers (StreamSourceFrames): its own latest slot.
-class FrameSetTap {
- public:
-  void offer(std::shared_ptr<const FrameSet> frames);
-  void close(const std::string& reason);
-  // nullopt on timeout; a null pointer once closed.
-  std::optional<std::shared_ptr<const FrameSet>> take(std::chrono::milliseconds timeout);
-  std::string close_reason() const;
-  uint64_t dropped() const;
-
- private:
-  mutable std::mutex mutex_;
-  std::condition_variable ready_;
-  std::shared_ptr<const FrameSet> slot_;
-  bool closed_ = false;
-  std::string reason_;
-  uint64_t dropped_ = 0;
-};
 
 struct SourceStats {
   uint64_t frames = 0;    // frame sets received

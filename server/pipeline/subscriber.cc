@@ -32,6 +32,11 @@ void Subscriber::set_min_revision(uint64_t revision) {
   if (slot_ && slot_->camera().revision() < min_revision_) slot_.reset();
 }
 
+void Subscriber::count_dropped() {
+  std::lock_guard lock(mutex_);
+  ++dropped_;
+}
+
 void Subscriber::close(grpc::StatusCode code, const std::string& reason) {
   {
     std::lock_guard lock(mutex_);

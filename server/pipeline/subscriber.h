@@ -3,7 +3,9 @@
 //
 // The pipeline never waits on a client: it overwrites the slot (counting the frame it
 // replaces as dropped) and moves on. A stalled client therefore holds at most the frame in
-// its slot plus what gRPC has buffered for it, whatever it does.
+// its slot plus what gRPC has buffered for it, whatever it does. Closed (the stream ended,
+// or the client left), it refuses every later offer, so encodes still in flight cannot
+// reach it.
 #pragma once
 
 #include <chrono>
@@ -44,6 +46,8 @@ class Subscriber {
   // After a view update: frames rendered before revision `revision` are stale; drop any in
   // the slot and refuse later offers of them, so the next frame taken reflects the change.
   void set_min_revision(uint64_t revision);
+  // A frame meant for this subscriber was replaced by a newer one before it was encoded.
+  void count_dropped();
 
   // Ends the stream with this status for the client.
   void close(grpc::StatusCode code, const std::string& reason);

@@ -71,8 +71,9 @@ struct Recording {
   static Recording open(const std::string& folder);
   // Decodes one frame's images (CV_8UC1 or CV_8UC3 BGR, rig order). Throws
   // std::runtime_error naming the file for a missing or corrupt image, or one whose size
-  // differs from its camera's calibration.
-  std::vector<cv::Mat> load_images(const RecordingFrame& frame) const;
+  // differs from its camera's calibration. With `encoded`, also hands back each file's
+  // bytes (rig order), so a recording of a replay keeps them as they are.
+  std::vector<cv::Mat> load_images(const RecordingFrame& frame, std::vector<EncodedImage>* encoded = nullptr) const;
 };
 
 // The index of a recording (recording.yaml + frames.csv) as parsed, before any rig or

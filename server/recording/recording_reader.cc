@@ -1,4 +1,5 @@
 // Reading a recording: the index (recording.yaml, frames.csv), its rigs and images.
+#include <algorithm>
 #include <charconv>
 #include <filesystem>
 #include <fstream>
@@ -65,6 +66,14 @@ void parse_header(const YamlReader& r, RecordingIndex& index) {
   for (size_t i = 0; i < cams.size(); ++i) {
     index.camera_names.push_back(r.text(cams[i], "cameras[" + std::to_string(i) + "]"));
   }
+}
+
+// The format an image file's name says ("" for one we would not store as is).
+std::string image_format_of(const std::string& file) {
+  const std::string ext = fs::path(file).extension().string();
+  if (ext == ".jpg" || ext == ".jpeg") return "jpeg";
+  if (ext == ".png") return "png";
+  return "";
 }
 
 }  // namespace
@@ -148,19 +157,25 @@ Recording Recording::open(const std::string& folder) {
   return recording;
 }
 
-std::vector<cv::Mat> Recording::load_images(const RecordingFrame& frame) const {
+std::vector<cv::Mat> Recording::load_images(const RecordingFrame& frame, std::vector<EncodedImage>* encoded) const {
   if (frame.rig_index >= rigs.size() || frame.image_files.size() != camera_names.size()) {
     throw std::runtime_error("recording '" + folder + "': frame " + std::to_string(frame.sequence) + " is malformed");
   }
   const Rig& rig = *rigs[frame.rig_index];
   std::vector<cv::Mat> images(frame.image_files.size());
+  if (encoded) encoded->assign(images.size(), EncodedImage{});
   for (size_t i = 0; i < images.size(); ++i) {
     if (frame.image_files[i].empty()) continue;
     const std::string path = (fs::path(folder) / frame.image_files[i]).string();
     std::ifstream in(path, std::ios::binary);
     if (!in) throw std::runtime_error(path + ": cannot open image of camera '" + camera_names[i] + "'");
-    const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    cv::Mat image = bytes.empty() ? cv::Mat() : cv::imdecode(bytes, cv::IMREAD_ANYCOLOR);
+    // Sized from the file: these bytes live as long as the frame set, so no slack.
+    in.seekg(0, std::ios::end);
+    auto bytes = std::make_shared<std::vector<uint8_t>>(static_cast<size_t>(std::max<std::streamoff>(0, in.tellg())));
+    in.seekg(0);
+    in.read(reinterpret_cast<char*>(bytes->data()), static_cast<std::streamsize>(bytes->size()));
+    if (!in) bytes->clear();  // unreadable: reported as corrupt below
+    cv::Mat image = bytes->empty() ? cv::Mat() : cv::imdecode(*bytes, cv::IMREAD_ANYCOLOR);
     if (image.empty()) throw std::runtime_error(path + ": corrupt image of camera '" + camera_names[i] + "'");
     if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
     const Camera& cam = rig.cameras()[i];
@@ -170,6 +185,7 @@ std::vector<cv::Mat> Recording::load_images(const RecordingFrame& frame) const {
                                std::to_string(cam.height));
     }
     images[i] = std::move(image);
+    if (encoded) (*encoded)[i] = {image_format_of(frame.image_files[i]), std::move(bytes)};
   }
   return images;
 }

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +33,9 @@ struct FrameSet {
   // was not pulled this cycle (no active view needs it).
   std::vector<cv::Mat> images;
   std::vector<EncodedImage> encoded;  // empty, or one per image
+  // The robot's joint positions (name -> rad, or m for prismatic joints) as of these
+  // images, for the robot overlay; null when the source does not report them.
+  std::shared_ptr<const std::map<std::string, double>> joints;
 };
 
 }  // namespace omniview

@@ -1,6 +1,9 @@
 #include "server/sources/images_source.h"
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -10,14 +13,32 @@
 namespace omniview {
 namespace {
 
-cv::Mat load_camera_image(const SourceConfig& config, const YAML::Node& node, const std::string& key,
-                          const Camera& cam) {
+// The format of an image file's bytes, by their signature ("" for one other than JPEG and PNG).
+std::string encoded_format(const std::vector<uint8_t>& bytes) {
+  static const uint8_t kJpeg[] = {0xFF, 0xD8, 0xFF};
+  static const uint8_t kPng[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  const auto starts_with = [&](const auto& magic) {
+    return bytes.size() >= sizeof magic && std::equal(std::begin(magic), std::end(magic), bytes.begin());
+  };
+  if (starts_with(kJpeg)) return "jpeg";
+  if (starts_with(kPng)) return "png";
+  return "";
+}
+
+// Decodes a camera's image file and keeps its bytes when they are JPEG or PNG, so that a
+// recording of this source stores the file as it is (no re-encoding, no loss).
+ImagesSource::CameraImage load_camera_image(const SourceConfig& config, const YAML::Node& node, const std::string& key,
+                                            const Camera& cam) {
   const YamlReader& r = *config.reader;
   std::string path = r.text(node, key);
   if (!std::filesystem::path(path).is_absolute() && !config.folder.empty()) {
     path = (std::filesystem::path(config.folder) / path).string();
   }
-  cv::Mat image = cv::imread(path, cv::IMREAD_ANYCOLOR);
+  std::ifstream in(path, std::ios::binary);
+  auto bytes = std::make_shared<std::vector<uint8_t>>();
+  if (in) bytes->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  // As cv::imread(path, IMREAD_ANYCOLOR) would, and as a replay of a recording will.
+  cv::Mat image = bytes->empty() ? cv::Mat() : cv::imdecode(*bytes, cv::IMREAD_ANYCOLOR);
   if (image.empty()) {
     r.fail(node, key, "cannot read image '" + path + "' for camera '" + cam.name + "' (missing or corrupt)");
   }
@@ -27,7 +48,10 @@ cv::Mat load_camera_image(const SourceConfig& config, const YAML::Node& node, co
                           ", camera '" + cam.name + "' is calibrated for " + std::to_string(cam.width) + "x" +
                           std::to_string(cam.height));
   }
-  return image;
+  EncodedImage encoded;
+  encoded.format = encoded_format(*bytes);
+  if (!encoded.format.empty()) encoded.bytes = std::move(bytes);
+  return {std::move(image), std::move(encoded)};
 }
 
 }  // namespace
@@ -47,7 +71,9 @@ ImagesSource::ImagesSource(const SourceConfig& config) : Source(config.name) {
   for (const Camera& cam : rig_->cameras()) {
     const YAML::Node node = images[cam.name];
     if (!node) r.fail(images, images_key, "no image for camera '" + cam.name + "' (every rig camera needs one)");
-    images_.push_back(load_camera_image(config, node, images_key + "." + cam.name, cam));
+    CameraImage loaded = load_camera_image(config, node, images_key + "." + cam.name, cam);
+    images_.push_back(std::move(loaded.image));
+    encoded_.push_back(std::move(loaded.encoded));
   }
 }
 
@@ -85,6 +111,7 @@ void ImagesSource::run(FrameCallback on_frame) {
     frames->rig = rig_;
     frames->rig_version = 1;
     frames->images = images_;  // shares the pixel data; nobody writes to it
+    frames->encoded = encoded_;
     on_frame(std::move(frames));
     {
       std::lock_guard lock(health_mutex_);

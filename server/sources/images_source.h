@@ -7,6 +7,8 @@
 //     rig_frame: base_link       # camchain only: the frame cam0 is placed in
 //     rig_pose: [x, y, z, yaw, pitch, roll]   # camchain only: cam0 in rig_frame (m, deg)
 //     images: {front: front.jpg, back: back.jpg}   # every rig camera
+//
+// JPEG and PNG files are also kept as read, so `omniview record` stores them unchanged.
 //     rate_hz: 10
 #pragma once
 
@@ -30,11 +32,17 @@ class ImagesSource : public Source {
   void stop() override;
   SourceHealth health() const override;
 
+  struct CameraImage {
+    cv::Mat image;
+    EncodedImage encoded;  // the file's bytes if JPEG or PNG
+  };
+
  private:
   void run(FrameCallback on_frame);
 
   std::shared_ptr<const Rig> rig_;
   std::vector<cv::Mat> images_;  // never written after construction: shared by every frame set
+  std::vector<EncodedImage> encoded_;  // likewise
   double rate_hz_ = 10;
   DeliveryThread thread_;
   mutable std::mutex health_mutex_;

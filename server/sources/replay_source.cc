@@ -68,15 +68,18 @@ Clock::duration ReplaySource::offset_of(size_t index) const {
   return std::chrono::duration_cast<Clock::duration>(seconds / speed_);
 }
 
-std::vector<cv::Mat> ReplaySource::decode(size_t index) {
+ReplaySource::Decoded ReplaySource::decode(size_t index) {
+  Decoded decoded;
   try {
-    return recording_.load_images(recording_.frames[index]);
+    // The files' bytes go along: a recording of this replay stores them unchanged.
+    decoded.images = recording_.load_images(recording_.frames[index], &decoded.encoded);
   } catch (const std::exception& e) {
     std::lock_guard lock(mutex_);
     ++health_.errors;
     health_.message = std::string("skipped a frame: ") + e.what();
     return {};
   }
+  return decoded;
 }
 
 void ReplaySource::run(FrameCallback on_frame) {
@@ -86,10 +89,10 @@ void ReplaySource::run(FrameCallback on_frame) {
   std::shared_ptr<const Rig> last_rig;
   size_t index = 0;
   // Decoded before its deadline, so decoding time does not delay delivery.
-  std::vector<cv::Mat> next = decode(index);
+  Decoded next = decode(index);
   for (;;) {
     if (!thread_.wait_until(loop_start + offset_of(index))) return;
-    if (!next.empty()) {
+    if (!next.images.empty()) {
       auto frames = std::make_shared<FrameSet>();
       const auto& rig = recording_.rigs[recording_.frames[index].rig_index];
       // A new version whenever the rig differs from the last delivered, looping back included.
@@ -104,7 +107,8 @@ void ReplaySource::run(FrameCallback on_frame) {
       frames->arrival = Clock::now();
       frames->rig = rig;
       frames->rig_version = rig_version;
-      frames->images = std::move(next);
+      frames->images = std::move(next.images);
+      frames->encoded = std::move(next.encoded);
       on_frame(std::move(frames));
       std::lock_guard lock(mutex_);
       ++health_.frames;

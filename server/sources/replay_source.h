@@ -39,8 +39,12 @@ class ReplaySource : public Source {
   void run(FrameCallback on_frame);
   // When frame `index` of the recording is due, relative to the start of its loop.
   std::chrono::steady_clock::duration offset_of(size_t index) const;
-  // The images of frame `index`, or empty after counting a bad one in health.
-  std::vector<cv::Mat> decode(size_t index);
+  struct Decoded {
+    std::vector<cv::Mat> images;
+    std::vector<EncodedImage> encoded;  // the files' bytes, per image
+  };
+  // Frame `index`'s images, or none after counting a bad one in health.
+  Decoded decode(size_t index);
 
   Recording recording_;
   double rate_hz_ = 0;  // 0: the recorded timing

@@ -4,8 +4,13 @@ namespace omniview::spot {
 
 void check_status(const grpc::Status& status, const std::string& what) {
   if (status.ok()) return;
-  const std::string detail = what + " failed: " + status.error_message() + " (gRPC code " +
-                             std::to_string(static_cast<int>(status.error_code())) + ")";
+  std::string detail = what + " failed: " + status.error_message() + " (gRPC code " +
+                      std::to_string(static_cast<int>(status.error_code())) + ")";
+  const std::string& m = status.error_message();
+  if (m.find("certificate verify failed") != std::string::npos || m.find("Handshake failed") != std::string::npos ||
+      m.find("handshake failed") != std::string::npos) {
+    detail += "; the TLS handshake failed: does ca_file hold the CA the robot's certificates chain to?";
+  }
   switch (status.error_code()) {
     case grpc::StatusCode::UNAUTHENTICATED:
       throw SpotError(SpotError::Kind::kTokenRejected, detail);

@@ -1,12 +1,15 @@
 #include "spot_adapter/source/spot_settings.h"
 
 #include <cstdlib>
+#include <filesystem>
+#include <iostream>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "server/sources/source_config_helpers.h"
 #include "spot_adapter/client/credentials.h"
+#include "spot_adapter/client/spot_error.h"
 
 namespace omniview::spot {
 
@@ -64,9 +67,18 @@ SpotSettings parse_spot_settings(const SourceConfig& config) {
 
   if (config.node["credentials_file"]) {
     s.credentials_file = config_path(config, "credentials_file");
-    if (!std::ifstream(s.credentials_file)) {
-      r.fail(config.node["credentials_file"], config.path + ".credentials_file",
-             "cannot read '" + s.credentials_file + "' (YAML with the robot's `username` and `password`)");
+    const std::string key = config.path + ".credentials_file";
+    try {
+      load_credentials(s.credentials_file);  // the keys are there (read again at every login)
+    } catch (const SpotError& e) {
+      r.fail(config.node["credentials_file"], key, e.what());
+    }
+    namespace fs = std::filesystem;
+    const auto perms = fs::status(s.credentials_file).permissions();
+    if ((perms & (fs::perms::group_read | fs::perms::others_read)) != fs::perms::none) {
+      std::cerr << "omniviewd: warning: " << r.file() << ": " << key << ": '" << s.credentials_file
+                << "' is readable by other users; the robot's password belongs to the daemon's user only "
+                   "(chmod 600)\n";
     }
   } else if (!std::getenv(kUsernameEnv) || !std::getenv(kPasswordEnv)) {
     r.fail(config.node, config.path,
@@ -90,7 +102,7 @@ SpotSettings parse_spot_settings(const SourceConfig& config) {
   s.rate_hz = positive_number(config, "rate_hz", 15);
   if (s.rate_hz > 30) r.fail(config.node["rate_hz"], config.path + ".rate_hz", "must be <= 30 (Spot's cameras give ~15)");
   s.jpeg = choice(config, "image_format", "jpeg", {"jpeg", "raw"}) == "jpeg";
-  s.prefer_rgb = choice(config, "pixel_format", "greyscale", {"greyscale", "rgb"}) == "rgb";
+  s.prefer_rgb = choice(config, "pixel_format", "greyscale", {"greyscale", "grayscale", "rgb"}) == "rgb";
   if (const YAML::Node q = config.node["jpeg_quality"]) {
     s.jpeg_quality = r.integer(q, config.path + ".jpeg_quality");
     if (s.jpeg_quality < 1 || s.jpeg_quality > 100) r.fail(q, config.path + ".jpeg_quality", "must be in 1..100");

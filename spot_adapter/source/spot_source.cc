@@ -6,6 +6,7 @@
 
 #include "bosdyn/api/image_service.grpc.pb.h"
 #include "spot_adapter/convert/camera_model_from_source.h"
+#include "spot_adapter/source/joint_states.h"
 #include "spot_adapter/source/spot_rig.h"
 
 namespace omniview::spot {
@@ -20,6 +21,10 @@ using std::chrono::milliseconds;
 constexpr auto kMinRigInterval = milliseconds(500);
 constexpr auto kErrorLogInterval = std::chrono::seconds(30);
 constexpr auto kChannelResetInterval = std::chrono::seconds(10);
+// Legs move slower than cameras need frames: joint angles at 5 Hz are enough for the overlay.
+constexpr auto kJointInterval = milliseconds(200);
+// How long a camera's last good image stands in for bad ones before it goes black.
+constexpr auto kHoldLastImage = milliseconds(1000);
 
 // ListImageSources does not name a source's sensor frame (only images do). Spot names the
 // body cameras' frames after their sources (frontleft_fisheye_image -> frontleft_fisheye),
@@ -210,6 +215,7 @@ void SpotSource::connect() {
     {
       std::lock_guard lock(mutex_);
       slots_ = std::move(slots);
+      last_good_.clear();
       wanted_.assign(slots_.size(), false);  // the pipeline says again once it has the rig
     }
     tree_ = std::move(tree);
@@ -244,6 +250,26 @@ void SpotSource::refresh_tree(const std::vector<FrameEdge>& edges) {
   last_rig_change_ = Clock::now();
 }
 
+void SpotSource::fill_gaps(ImageSet& set, const std::vector<size_t>& wanted, Clock::time_point now) {
+  last_good_.resize(slots_.size());
+  for (size_t i : wanted) {
+    auto& last = last_good_[i];
+    if (!set.images[i].empty()) {
+      last = {set.images[i], now};
+      continue;
+    }
+    // One camera's bad image must not cost every view that fuses it its frame: show that
+    // camera's last good image for a moment, then black (a gap where it looks) until it
+    // recovers, while the other cameras keep the views live.
+    if (!last.image.empty() && now - last.time < kHoldLastImage) {
+      set.images[i] = last.image;
+    } else {
+      const Camera& c = slots_[i].camera;
+      set.images[i] = cv::Mat::zeros(c.height, c.width, last.image.empty() ? CV_8UC1 : last.image.type());
+    }
+  }
+}
+
 void SpotSource::pull_once(const std::vector<size_t>& wanted) {
   ImageSet set = get_images(session_, settings_, slots_, wanted);
   const auto arrival = Clock::now();
@@ -259,6 +285,17 @@ void SpotSource::pull_once(const std::vector<size_t>& wanted) {
     }
   }
   if (set.good == 0) return;
+  fill_gaps(set, wanted, arrival);
+  if (robot_state_available_ && Clock::now() - joints_read_ > kJointInterval) {
+    joints_read_ = Clock::now();
+    try {
+      joints_ = get_joint_states(session_);
+    } catch (const SpotError& e) {
+      if (e.kind() != SpotError::Kind::kProtocol) throw;  // the robot went away: the usual handling
+      robot_state_available_ = false;  // a robot (or image service) without robot state: no overlay joints
+      log("no joint angles for the robot overlay: " + std::string(e.what()));
+    }
+  }
   try {
     refresh_tree(set.edges);
   } catch (const SpotError& e) {  // keep the old rig: its extrinsics are still the best we know
@@ -280,6 +317,7 @@ void SpotSource::pull_once(const std::vector<size_t>& wanted) {
   }
   frames->images = std::move(set.images);
   frames->encoded = std::move(set.encoded);
+  frames->joints = joints_;
   on_frame_(std::move(frames));
 }
 
@@ -298,7 +336,7 @@ std::chrono::milliseconds SpotSource::on_error(const SpotError& e) {
         channels_.reset();
         last_channel_reset_ = Clock::now();
       }
-      advice = "retrying every " + std::to_string(backoff.count()) + " ms";
+      advice = "retrying every 0.5 s";
       break;
     case SpotError::Kind::kTokenRejected:
       session_.disconnect();  // log in again: expired token, or the robot restarted
@@ -357,6 +395,7 @@ void SpotSource::run() {
         next = cycle + std::chrono::seconds(1);  // nobody watches: pull nothing
       } else {
         pull_once(wanted);
+        if (failures_ > 0) log("images flowing again after " + std::to_string(failures_) + " failed attempt(s)");
         failures_ = 0;
         next = cycle + period;
       }

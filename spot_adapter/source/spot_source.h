@@ -41,6 +41,7 @@ class SpotSource : public Source {
   void connect();
   void pull_once(const std::vector<size_t>& wanted);
   void refresh_tree(const std::vector<FrameEdge>& edges);
+  void fill_gaps(ImageSet& set, const std::vector<size_t>& wanted, std::chrono::steady_clock::time_point now);
   void set_rig(std::shared_ptr<const Rig> rig);
   void announce_rig();
   // Waits for the deadline, a change of wanted cameras or stop(); false on stop().
@@ -58,6 +59,11 @@ class SpotSource : public Source {
 
   // Only the source's thread touches these.
   std::vector<CameraSlot> slots_;
+  struct GoodImage {
+    cv::Mat image;
+    std::chrono::steady_clock::time_point time;
+  };
+  std::vector<GoodImage> last_good_;  // per slot, for bad images in between
   std::map<std::string, FrameEdge> tree_;  // the frame tree the current rig was built from
   uint64_t sequence_ = 0;
   int failures_ = 0;  // in a row, for the backoff
@@ -65,6 +71,10 @@ class SpotSource : public Source {
   std::chrono::steady_clock::time_point last_rig_change_;
   std::chrono::steady_clock::time_point last_channel_reset_;
   std::string connect_note_;  // configured cameras the robot lacks, shown in status
+  // Joint positions for the robot overlay, read at most kJointInterval apart while pulling.
+  std::shared_ptr<const std::map<std::string, double>> joints_;
+  std::chrono::steady_clock::time_point joints_read_;
+  bool robot_state_available_ = true;  // false once the robot said it has no such service
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;

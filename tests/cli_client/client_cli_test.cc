@@ -301,7 +301,7 @@ TEST_F(AgainstFake, RecordWritesARecording) {
   auto r = omniview("record -o " + out.string() + " --frames 3");
   if (has(r.output, "without recording support")) GTEST_SKIP() << "built without omniview_recording";
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_TRUE(has(r.output, "recorded 3 frame sets of source 'sim'")) << r.output;
+  EXPECT_TRUE(has(r.output, "recorded 3 frame sets, skipped 0, of source 'sim'")) << r.output;
   EXPECT_TRUE(fs::exists(out / "recording.yaml"));
   EXPECT_TRUE(fs::exists(out / "rig.yaml"));
   std::istringstream csv(read(out / "frames.csv"));

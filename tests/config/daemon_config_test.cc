@@ -123,16 +123,21 @@ TEST(DaemonConfig, ViewsMustStayWithinTheLimits) {
 TEST(DaemonConfig, Limits) {
   const auto config = parse(std::string(kSources) +
                             "limits: {max_view_pixels: 1000000, max_views: 4, max_streams_per_client: 2,\n"
-                            "         max_streams: 3, max_message_bytes: 1048576, max_rate_hz: 12.5}\n");
+                            "         max_streams: 3, max_message_bytes: 1048576, max_rate_hz: 12.5,\n"
+                            "         record_queue_frame_sets: 5, record_queue_mb: 64}\n");
   EXPECT_EQ(config.limits.max_view_pixels, 1000000);
   EXPECT_EQ(config.limits.max_views, 4);
   EXPECT_EQ(config.limits.max_streams_per_client, 2);
   EXPECT_EQ(config.limits.max_streams, 3);
   EXPECT_EQ(config.limits.max_message_bytes, 1048576);
   EXPECT_EQ(config.limits.max_rate_hz, 12.5);
+  EXPECT_EQ(config.limits.record_queue_frame_sets, 5);
+  EXPECT_EQ(config.limits.record_queue_mb, 64);
 
   const std::string base = std::string(kSources) + "limits:\n";  // limit keys on line 4
   expect_error(base + "  max_views: 0\n", {"d.yaml:4: limits.max_views: must be from 1 to 1024, got 0"});
+  expect_error(base + "  record_queue_frame_sets: 0\n",
+               {"d.yaml:4: limits.record_queue_frame_sets: must be from 1 to 10000, got 0"});
   expect_error(base + "  max_streams: -3\n", {"d.yaml:4: limits.max_streams: must be from 1"});
   expect_error(base + "  max_view_pixels: 1e12\n", {"d.yaml:4: limits.max_view_pixels: expected an integer"});
   expect_error(base + "  max_view_pixels: 300000000\n", {"d.yaml:4: limits.max_view_pixels: must be from 1 to 268435456"});

@@ -36,6 +36,30 @@ size_t count_lines(const fs::path& file) {
   return n;
 }
 
+std::string file_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The sequence numbers of a recording's frames.csv, in order.
+std::vector<uint64_t> recorded_sequences(const fs::path& recording) {
+  std::ifstream in(recording / "frames.csv");
+  std::vector<uint64_t> sequences;
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) sequences.push_back(std::stoull(line.substr(0, line.find(','))));
+  return sequences;
+}
+
+// `omniview record ...` made a deliberately slow client: the CLI is stopped (SIGSTOP)
+// `after` into the recording, for `stall`, as a disk that blocks would stop it.
+ProcessResult record_with_stall(const std::string& server, const std::string& args, double after, double stall) {
+  std::ostringstream command;
+  command << "{ " << OMNIVIEW_CLI << " record " << args << " --server " << server << " & p=$!; sleep " << after
+          << "; kill -STOP $p; sleep " << stall << "; kill -CONT $p; wait $p; }";
+  return run_process(command.str());
+}
+
 TEST_F(Clients, CliCreatesPointsAndSnapshotsAView) {
   const std::string view_file = dir_.write("ptz.yaml", R"(name: ptz
 type: perspective
@@ -94,6 +118,10 @@ TEST_F(Clients, ARecordingReplaysInAnotherDaemon) {
   const fs::path recording = dir_.path() / "recording";
   auto r = cli("record -o " + recording.string() + " --frames 6");
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("recorded 6 frame sets, skipped 0,"), std::string::npos) << r.output;
+  // The source's JPEG files, byte for byte: nothing decoded and re-encoded on the way.
+  EXPECT_EQ(file_bytes(recording / "images/0_0.jpg"), file_bytes(example_dir() + "/front.jpg"));
+  EXPECT_EQ(file_bytes(recording / "images/5_1.jpg"), file_bytes(example_dir() + "/back.jpg"));
 
   const std::string config = "listen: 127.0.0.1:0\nsources:\n  - {name: lab, type: replay, recording: " +
                              recording.string() +
@@ -117,6 +145,43 @@ TEST_F(Clients, ARecordingReplaysInAnotherDaemon) {
   EXPECT_EQ(f.height(), 80);
   ctx->TryCancel();
   reader->Finish();
+
+  // A recording of the replay keeps the bytes too.
+  const fs::path again = dir_.path() / "again";
+  r = run_process(std::string(OMNIVIEW_CLI) + " record -o " + again.string() + " --frames 2 --server " +
+                  replay.address());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(file_bytes(again / "images/1_0.jpg"), file_bytes(example_dir() + "/front.jpg"));
+}
+
+TEST_F(Clients, ARecordingSlowForAMomentLosesNothing) {
+  // 0.6 s stopped at 20 Hz: 12 frame sets, within the daemon's default queue of 32.
+  const fs::path recording = dir_.path() / "recording";
+  const auto r = record_with_stall(daemon_.address(), "-o " + recording.string() + " --frames 30", 0.3, 0.6);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("recorded 30 frame sets, skipped 0,"), std::string::npos) << r.output;
+  const auto sequences = recorded_sequences(recording);
+  ASSERT_EQ(sequences.size(), 30u);
+  for (size_t i = 1; i < sequences.size(); ++i) EXPECT_EQ(sequences[i], sequences[i - 1] + 1) << "none lost";
+}
+
+TEST(Recording, AClientFarBehindSkipsAndSaysHowMany) {
+  // A queue of 4 at 30 Hz, and the client stopped for 2 s: 60 frame sets, far more than
+  // the queue and what the connection buffers (~260 KB each).
+  TempDir dir;
+  DaemonProcess daemon(dir, example_config(30, "limits: {record_queue_frame_sets: 4}\n"));
+  const fs::path recording = dir.path() / "recording";
+  const auto r = record_with_stall(daemon.address(), "-o " + recording.string() + " --frames 40", 0.3, 2.0);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto sequences = recorded_sequences(recording);
+  ASSERT_EQ(sequences.size(), 40u);
+  const size_t at = r.output.find("recorded 40 frame sets, skipped ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const uint64_t skipped = std::stoull(r.output.substr(at + 32));
+  EXPECT_GT(skipped, 0u) << r.output;
+  // Exactly what is missing: recorded + skipped spans first to last sequence.
+  EXPECT_EQ(sequences.size() + skipped, sequences.back() - sequences.front() + 1) << r.output;
+  EXPECT_NE(r.output.find("limits.record_queue_frame_sets"), std::string::npos) << r.output;
 }
 
 TEST_F(Clients, ThePythonExampleSavesFrames) {

@@ -49,6 +49,44 @@ TEST(ImagesSource, DeliversAtRateWithIncreasingSequence) {
   source.stop();  // twice is fine
 }
 
+std::vector<uint8_t> file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(ImagesSource, KeepsJpegAndPngFilesAsTheyAre) {
+  // front as the JPEG it is, back as a PNG, and a BMP (neither: pixels only) for a third run.
+  TempFolder dir;
+  const cv::Mat back = cv::imread(kExample + "/back.jpg");
+  cv::imwrite(dir.str() + "/back.png", back);
+  cv::imwrite(dir.str() + "/back.bmp", back);
+  for (const std::string& back_file : {dir.str() + "/back.png", dir.str() + "/back.bmp"}) {
+    TestConfig config("name: still\ntype: images\nrig: rig.yaml\nimages:\n  front: front.jpg\n  back: " + back_file +
+                          "\nrate_hz: 50\n",
+                      kExample);
+    ImagesSource source(config.config);
+    Collector collector;
+    source.start(collector.callback());
+    const auto frames = collector.wait_for(1, 2s);
+    source.stop();
+    ASSERT_FALSE(frames.empty());
+    const FrameSet& f = *frames[0];
+    ASSERT_EQ(f.encoded.size(), 2u);
+    EXPECT_EQ(f.encoded[0].format, "jpeg");
+    ASSERT_TRUE(f.encoded[0].bytes);
+    EXPECT_EQ(*f.encoded[0].bytes, file_bytes(kExample + "/front.jpg")) << "byte for byte, not re-encoded";
+    EXPECT_EQ(cv::norm(f.images[1], back, cv::NORM_INF), 0) << "decoded as the file says";
+    if (back_file.ends_with(".png")) {
+      EXPECT_EQ(f.encoded[1].format, "png");
+      ASSERT_TRUE(f.encoded[1].bytes);
+      EXPECT_EQ(*f.encoded[1].bytes, file_bytes(back_file));
+    } else {
+      EXPECT_TRUE(f.encoded[1].format.empty()) << "a BMP is kept as pixels only";
+      EXPECT_FALSE(f.encoded[1].bytes);
+    }
+  }
+}
+
 TEST(ImagesSource, RegisteredAsBuiltin) {
   register_builtin_sources();
   TestConfig config(example_yaml(), kExample);

@@ -90,6 +90,27 @@ TEST(ReplaySource, RateAndNoLoop) {
   source.stop();
 }
 
+TEST(ReplaySource, HandsOnTheRecordedFilesBytes) {
+  TempFolder dir;
+  write_recording(dir / "rec", 10ms);  // PNG files (the writer encodes the pixels)
+  const Recording rec = Recording::open(dir / "rec");
+  TestConfig config("name: r\ntype: replay\nrecording: rec\nloop: false\n", dir.str());
+  ReplaySource source(config.config);
+  Collector collector;
+  source.start(collector.callback());
+  const auto frames = collector.wait_for(2, 2s);
+  source.stop();
+  ASSERT_GE(frames.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    ASSERT_EQ(frames[i]->encoded.size(), 1u);
+    EXPECT_EQ(frames[i]->encoded[0].format, "png");
+    ASSERT_TRUE(frames[i]->encoded[0].bytes);
+    std::ifstream in(dir / ("rec/" + rec.frames[i].image_files[0]), std::ios::binary);
+    const std::vector<uint8_t> file{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    EXPECT_EQ(*frames[i]->encoded[0].bytes, file) << "a recording of the replay stores the same bytes";
+  }
+}
+
 TEST(ReplaySource, CorruptImageIsCountedAndSkipped) {
   TempFolder dir;
   write_recording(dir / "rec", 10ms);

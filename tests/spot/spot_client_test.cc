@@ -113,7 +113,7 @@ TEST(SpotSettings, DefaultsAndClearErrors) {
   }
   EXPECT_EQ(settings_error(base, dir.path()), "(no error)");
   EXPECT_NE(settings_error(base + "rate_hz: 60\n", dir.path()).find("spot.yaml:5"), std::string::npos);
-  EXPECT_NE(settings_error(base + "pixel_format: bgr\n", dir.path()).find("not one of: greyscale, rgb"),
+  EXPECT_NE(settings_error(base + "pixel_format: bgr\n", dir.path()).find("not one of: greyscale, grayscale, rgb"),
             std::string::npos);
   EXPECT_NE(settings_error(base + "camera: [x]\n", dir.path()).find("camera"), std::string::npos);
   EXPECT_NE(settings_error(base + "cameras: [a, a]\n", dir.path()).find("listed twice"), std::string::npos);

@@ -82,11 +82,19 @@ std::map<std::string, double> mock_control(const SpotMockProcess& mock, const st
   return out;
 }
 
-// The views of the shipped config/spot.yaml, as YAML text to append to a test config.
+// The views and robot model of the shipped config/spot.yaml, as YAML to append to a test
+// config (paths made absolute: the test's config lives elsewhere).
 std::string shipped_views() {
-  const YAML::Node config = YAML::LoadFile(std::string(OMNIVIEW_SOURCE_DIR) + "/config/spot.yaml");
+  const std::string folder = std::string(OMNIVIEW_SOURCE_DIR) + "/config/";
+  YAML::Node config = YAML::LoadFile(folder + "spot.yaml");
+  YAML::Node models = config["robot_models"];
+  for (auto m : models) {
+    m["urdf"] = folder + m["urdf"].as<std::string>();
+    m.remove("mesh_path");
+  }
   YAML::Emitter e;
-  e << YAML::BeginMap << YAML::Key << "views" << YAML::Value << config["views"] << YAML::EndMap;
+  e << YAML::BeginMap << YAML::Key << "views" << YAML::Value << config["views"] << YAML::Key << "robot_models"
+    << YAML::Value << models << YAML::EndMap;
   return std::string(e.c_str()) + "\n";
 }
 
@@ -258,6 +266,12 @@ TEST(SpotSource, DefaultViewsStreamAndMatchTheMocksScene) {
 
   // The shipped bird's-eye view stands on footprint, the ground below the body: in the
   // mock's world that is the floor z = 0 the test scene textures, up to its wall at x = 3.
+  // (Without the robot drawn in: this compares the cameras' geometry.)
+  v1::UpdateViewRequest no_robot;
+  no_robot.set_name("birdseye");
+  no_robot.mutable_set()->set_overlay(false);
+  v1::View updated;
+  ASSERT_TRUE(stub->UpdateView(make_context().get(), no_robot, &updated).ok());
   v1::Frame bird;
   ASSERT_TRUE(snapshot(*stub, "birdseye", bird).ok());
   size_t n = 0;
@@ -358,6 +372,54 @@ TEST(SpotSource, ColourAndGreyRobotsRawAndJpegThroughTheFallbackFormats) {
   cv::split(rgb, planes);
   EXPECT_GT(cv::norm(planes[0], planes[2], cv::NORM_L1) / planes[0].total(), 1.0) << "not grey";
   EXPECT_EQ(source_status(*stub).errors(), 0u) << source_status(*stub).DebugString();
+}
+
+// The shipped bird's-eye view draws the robot (config/spot.yaml's robot_models) where it
+// stands, with the leg angles the robot reports; turning the overlay off shows the blind
+// spot under the body again.
+TEST(SpotSource, BirdseyeShowsTheRobotWithItsReportedLegs) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port);
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+  v1::Frame with;
+  ASSERT_TRUE(snapshot(*stub, "birdseye", with).ok()) << daemon.log();
+  ASSERT_EQ(with.channels(), 3) << "the robot is drawn in colour over the grey cameras";
+  const cv::Mat image(with.height(), with.width(), CV_8UC3, const_cast<char*>(with.data().data()));
+  const cv::Vec3b centre = image.at<cv::Vec3b>(with.height() / 2, with.width() / 2);  // RGB: body below
+  EXPECT_GT(centre[0], 150) << "yellow body at the footprint";
+  EXPECT_GT(centre[1], 120);
+  EXPECT_LT(centre[2], 90);
+
+  // A leg moves on the robot: the next frames show it, and nothing else changes.
+  mock_control(mock, "--joint fl.hy=0 --joint fl.kn=0");
+  v1::Frame moved;
+  ASSERT_TRUE(eventually([&] {
+    snapshot(*stub, "birdseye", moved);
+    return moved.data() != with.data();
+  }, 5s));
+  const cv::Mat after(moved.height(), moved.width(), CV_8UC3, const_cast<char*>(moved.data().data()));
+  cv::Mat diff;
+  cv::absdiff(image, after, diff);
+  cv::Mat changed;
+  cv::cvtColor(diff, changed, cv::COLOR_RGB2GRAY);
+  changed = changed > 30;
+  EXPECT_GT(cv::countNonZero(changed), 50);
+  const cv::Rect where = cv::boundingRect(changed);
+  const cv::Rect robot_area(with.width() / 2 - 100, with.height() / 2 - 100, 200, 200);
+  EXPECT_EQ(where & robot_area, where) << "changes outside the robot: " << where;
+
+  v1::UpdateViewRequest off;
+  off.set_name("birdseye");
+  off.mutable_set()->set_overlay(false);
+  v1::View updated;
+  ASSERT_TRUE(stub->UpdateView(make_context().get(), off, &updated).ok());
+  v1::Frame without;
+  ASSERT_TRUE(snapshot(*stub, "birdseye", without).ok());
+  EXPECT_EQ(without.channels(), 1);
+  EXPECT_EQ(static_cast<uint8_t>(without.data()[(without.height() / 2) * without.width() + without.width() / 2]), 0)
+      << "the cameras cannot see under the body";
 }
 
 TEST(SpotSource, WrongPasswordIsClearAndNeverTripsTheLockout) {

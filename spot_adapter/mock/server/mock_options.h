@@ -13,8 +13,9 @@ namespace omniview::spot_mock {
 struct MockOptions {
   std::string bind = "127.0.0.1";
   int port = 50443;  // 0: any free port (see ready_file)
-  std::string certs_dir = "spot-mock-certs";
-  std::string credentials_file = "spot-mock-credentials.yaml";
+  // Where config/spot.yaml looks, from the repository root.
+  std::string certs_dir = "out/spot-mock";
+  std::string credentials_file = "out/spot-mock/credentials.yaml";
   std::string ready_file;
   MockRobotConfig robot;  // scene, colour, faults, token policy (credentials come from the file)
 };

@@ -3,6 +3,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include <grpc/grpc.h>
 #include <grpcpp/server_builder.h>
 
 #include "spot_adapter/mock/auth/certificates.h"
@@ -51,6 +52,9 @@ MockServer::MockServer(const MockOptions& options) {
 
   grpc::ServerBuilder builder;
   int bound_port = 0;
+  // gRPC lets a second server share a port (SO_REUSEPORT): two mocks would then split
+  // the connections between two robots with different CAs. Refuse instead.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.AddListeningPort(host_port(options.bind, options.port), mock_server_credentials(options.certs_dir),
                            &bound_port);
   builder.SetMaxReceiveMessageSize(kMaxMessageBytes);

@@ -1,0 +1,45 @@
+#include "server/pipeline/frame_delivery.h"
+
+#include <exception>
+#include <string>
+
+#include <google/protobuf/util/time_util.h>
+
+#include "server/pipeline/frame_encoder.h"
+
+namespace omniview {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+google::protobuf::Timestamp to_timestamp(std::chrono::system_clock::time_point t) {
+  return google::protobuf::util::TimeUtil::NanosecondsToTimestamp(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count());
+}
+
+}  // namespace
+
+void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& rendered, const EncodingKey& key,
+                      const std::vector<std::shared_ptr<Subscriber>>& subscribers) {
+  auto frame = std::make_shared<v1::Frame>();
+  try {
+    frame->set_view(state.spec.name);
+    frame->set_sequence(rendered.sequence);
+    *frame->mutable_capture_time() = to_timestamp(rendered.capture_time);
+    *frame->mutable_camera() = *state.description;
+    frame->set_coverage(state.coverage);
+    encode_frame(rendered.image, key, *frame);
+  } catch (const std::exception& e) {
+    for (auto& s : subscribers) s->close(grpc::StatusCode::INTERNAL, std::string("cannot encode frames: ") + e.what());
+    return;
+  }
+  const auto offered = Clock::now();
+  const double latency_ms = std::chrono::duration<double, std::milli>(offered - rendered.arrival).count();
+  frame->set_latency_ms(latency_ms);
+  SharedFrame shared = std::move(frame);
+  for (auto& s : subscribers) s->offer(shared, offered);
+  if (!rendered.counted.exchange(true)) view.record_frame(latency_ms, offered);
+}
+
+}  // namespace omniview

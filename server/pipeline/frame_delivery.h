@@ -1,0 +1,31 @@
+// One rendered view image on its way to clients: encoded per EncodingKey (on an encoder
+// thread, see encoder_pool.h) and offered to that key's subscribers.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "server/pipeline/live_view.h"
+#include "server/pipeline/subscriber.h"
+
+namespace omniview {
+
+struct RenderedFrame {
+  cv::Mat image;  // never written after rendering: shared by every encoding of it
+  uint64_t sequence = 0;
+  std::chrono::system_clock::time_point capture_time;
+  std::chrono::steady_clock::time_point arrival;  // of the source's frame set
+  std::atomic<bool> counted{false};  // the view's statistics count the first encoding delivered
+};
+
+// Encodes `rendered` in `key`, offers it to `subscribers` (a failed encoding ends their
+// streams with INTERNAL) and records the frame in `view`'s statistics. Never throws.
+void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& rendered, const EncodingKey& key,
+                      const std::vector<std::shared_ptr<Subscriber>>& subscribers);
+
+}  // namespace omniview

@@ -1,0 +1,44 @@
+#include "server/pipeline/robot_layer.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/robot/overlay/composite.h"
+#include "core/robot/render/pinhole_camera.h"
+
+namespace omniview {
+
+ViewOverlay::ViewOverlay(std::shared_ptr<const RobotModelSetup> setup)
+    : setup_(std::move(setup)), overlay_(setup_->model, setup_->style) {
+  overlay_.set_joint_positions(setup_->fixed_joints);  // checked against the model at load
+}
+
+void ViewOverlay::draw(cv::Mat& image, const ViewSpec& spec, const Rig& rig,
+                       const std::shared_ptr<const std::map<std::string, double>>& joints) {
+  const std::string model_frame = setup_->frame.empty() ? rig.default_frame() : setup_->frame;
+  const std::string view_frame = spec.frame.empty() ? rig.default_frame() : spec.frame;
+  const auto T_model_frame = rig.frames().try_lookup(model_frame, view_frame);
+  if (!T_model_frame) return;  // a rig without the model's frame yet (a robot not connected)
+  std::lock_guard lock(mutex_);
+  if (joints && joints != last_joints_) {
+    // Only the joints the model has: a robot with an arm reports more than a URDF of its
+    // legs knows, and that is no error.
+    robot::JointPositions known;
+    for (const auto& [name, value] : *joints) {
+      if (overlay_.model().variable_index(name) >= 0) known[name] = value;
+    }
+    overlay_.set_joint_positions(known);
+    last_joints_ = joints;
+  }
+  const auto& layer =
+      overlay_.layer(robot::pinhole_camera_of(spec), *T_model_frame * robot::T_frame_optical(spec));
+  if (layer.bbox.empty()) return;
+  if (image.channels() == 1) cv::cvtColor(image, image, cv::COLOR_GRAY2BGR);
+  robot::composite(layer, image, spec.overlay_opacity);
+}
+
+int ViewOverlay::render_count() const {
+  std::lock_guard lock(mutex_);
+  return overlay_.render_count();
+}
+
+}  // namespace omniview
