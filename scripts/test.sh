@@ -18,7 +18,7 @@ cmake --build build-asan -j "$(nproc)"
 timing_bound="Recording.AClientFarBehindSkipsAndSaysHowMany"
 # Three golden sweeps repeat, at 3x3 supersampling, map code that the other golden and map
 # tests already run under ASan; their ray casting alone would take minutes here.
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp" UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+OMNIVIEW_TEST_TIME_SCALE=2 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp" UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j "$(nproc)" \
   -E "GoldenDualFisheye.GreyAndMixedInputs|GoldenModels.PerspectiveThroughEachModel|GoldenDualFisheye.NaiveBackToBackStitch|$timing_bound"
 
@@ -28,5 +28,5 @@ cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_
 cmake --build build-tsan -j "$(nproc)" --target omniviewd omniview views_api_test streaming_test auth_test \
   lifecycle_test clients_test rate_average_test pipeline_queues_test images_source_test replay_source_test recording_test cli_client_test client_cli_test \
   overlay_test spot-mock spot_mock_test spot_daemon_test
-OMNIVIEW_THREADS=1 TSAN_OPTIONS="suppressions=$PWD/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
+OMNIVIEW_THREADS=1 OMNIVIEW_TEST_TIME_SCALE=3 TSAN_OPTIONS="suppressions=$PWD/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
   ctest --test-dir build-tsan -L server --output-on-failure -j "$(nproc)" -E "$timing_bound"

@@ -7,7 +7,9 @@
 #include <unistd.h>
 
 #include <array>
+#include <cstdlib>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <thread>
 
@@ -48,6 +50,12 @@ std::string TempDir::write(const std::string& name, const std::string& text) con
   fs::create_directories(p.parent_path());
   std::ofstream(p) << text;
   return p.string();
+}
+
+double test_time_scale() {
+  const char* text = std::getenv("OMNIVIEW_TEST_TIME_SCALE");
+  const double scale = text ? std::atof(text) : 1.0;
+  return scale >= 1.0 ? scale : 1.0;
 }
 
 std::string example_dir() { return std::string(OMNIVIEW_SOURCE_DIR) + "/config/examples/dual_fisheye"; }
@@ -100,6 +108,15 @@ ServedProcess::ServedProcess(std::string name, std::vector<std::string> args, fs
 
 ServedProcess::~ServedProcess() {
   if (pid_ > 0) stop(SIGKILL, std::chrono::seconds(5));
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  if (info && info->result()->Failed()) {
+    constexpr size_t kTail = 8000;
+    const std::string text = log();
+    std::cerr << "---- " << name_ << " output (" << log_file_.string() << ")"
+              << (text.size() > kTail ? ", last " + std::to_string(kTail) + " characters" : "") << ":\n"
+              << (text.size() > kTail ? text.substr(text.size() - kTail) : text) << "---- end of " << name_
+              << " output\n";
+  }
 }
 std::string ServedProcess::log() const {
   std::ifstream in(log_file_);

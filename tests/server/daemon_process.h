@@ -27,6 +27,12 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+// How much slower than a release build the processes under test run: OMNIVIEW_TEST_TIME_SCALE
+// (scripts/test.sh sets it for the sanitizer builds), 1 when unset. Bounds that time the
+// product ("views resume within 2 s") are multiplied by it, so a sanitizer run still checks
+// the code path without failing on the sanitizer's own slowdown.
+double test_time_scale();
+
 // Where the bundled example rig and images are (absolute).
 std::string example_dir();
 
@@ -43,6 +49,7 @@ class ServedProcess {
   ServedProcess(std::string name, std::vector<std::string> args, std::filesystem::path log_file,
                 const std::filesystem::path& ready_file,
                 std::chrono::seconds ready_timeout = std::chrono::seconds(20));
+  // Prints the end of the program's output when the test failed (CI shows nothing else).
   ~ServedProcess();
   ServedProcess(const ServedProcess&) = delete;
   ServedProcess& operator=(const ServedProcess&) = delete;
