@@ -30,6 +30,7 @@ talking to omniviewd:
   stream    save N frames of a view to a folder, with an index
   status    the daemon's sources, views and clients
   record    record what a source delivers, for the replay source
+  joints    the robot overlay's joint positions: show them, or set them
 
 Connection options of those commands, before or after the command: --server HOST:PORT
 (or OMNIVIEW_SERVER; default 127.0.0.1:50051), --tls-ca FILE, --tls-cert FILE --tls-key
@@ -46,7 +47,8 @@ const std::map<std::string, Command>& commands() {
   static const std::map<std::string, Command> table{
       {"render", cli::render_command}, {"cameras", cli::cameras_command},   {"views", cli::views_command},
       {"ptz", cli::ptz_command},       {"snapshot", cli::snapshot_command}, {"watch", cli::watch_command},
-      {"stream", cli::stream_command}, {"status", cli::status_command},     {"record", cli::record_command}};
+      {"stream", cli::stream_command}, {"status", cli::status_command},     {"record", cli::record_command},
+      {"joints", cli::joints_command}};
   return table;
 }
 

@@ -15,5 +15,6 @@ int watch_command(const std::vector<std::string>& args);
 int stream_command(const std::vector<std::string>& args);
 int status_command(const std::vector<std::string>& args);
 int record_command(const std::vector<std::string>& args);
+int joints_command(const std::vector<std::string>& args);
 
 }  // namespace omniview::cli

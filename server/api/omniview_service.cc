@@ -276,6 +276,25 @@ grpc::Status OmniviewService::GetStatus(grpc::ServerContext* ctx, const v1::GetS
   });
 }
 
+grpc::Status OmniviewService::SetJointPositions(grpc::ServerContext* ctx, const v1::SetJointPositionsRequest* req,
+                                                v1::JointPositions* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  return guarded([&] {
+    const JointMap positions(req->positions().begin(), req->positions().end());
+    *resp = pipeline_.set_joint_positions(req->source(), positions, req->clear());
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status OmniviewService::GetJointPositions(grpc::ServerContext* ctx, const v1::GetJointPositionsRequest* req,
+                                                v1::JointPositions* resp) {
+  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  return guarded([&] {
+    *resp = pipeline_.joint_positions(req->source());
+    return grpc::Status::OK;
+  });
+}
+
 grpc::Status OmniviewService::StreamSourceFrames(grpc::ServerContext* ctx, const v1::StreamSourceFramesRequest* req,
                                                  grpc::ServerWriter<v1::SourceFrame>* writer) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);

@@ -35,6 +35,10 @@ class OmniviewService final : public v1::Omniview::Service {
   grpc::Status PointToPixel(grpc::ServerContext* ctx, const v1::PointToPixelRequest* req,
                             v1::PointToPixelResponse* resp) override;
   grpc::Status GetStatus(grpc::ServerContext* ctx, const v1::GetStatusRequest* req, v1::Status* resp) override;
+  grpc::Status SetJointPositions(grpc::ServerContext* ctx, const v1::SetJointPositionsRequest* req,
+                                 v1::JointPositions* resp) override;
+  grpc::Status GetJointPositions(grpc::ServerContext* ctx, const v1::GetJointPositionsRequest* req,
+                                 v1::JointPositions* resp) override;
   grpc::Status StreamSourceFrames(grpc::ServerContext* ctx, const v1::StreamSourceFramesRequest* req,
                                   grpc::ServerWriter<v1::SourceFrame>* writer) override;
 

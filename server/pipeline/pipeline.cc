@@ -43,7 +43,28 @@ void Pipeline::add_source(std::unique_ptr<Source> source) {
 
 void Pipeline::set_robot_model(const std::string& source, std::shared_ptr<const RobotModelSetup> setup) {
   channel(source);  // NOT_FOUND for an unknown source
+  robot_joints_[source] = std::make_unique<RobotJoints>(setup);
   robot_models_[source] = std::move(setup);
+}
+
+RobotJoints& Pipeline::robot_joints(const std::string& source) const {
+  const std::string name = channel(source).source().name();  // NOT_FOUND for an unknown source
+  const auto it = robot_joints_.find(name);
+  if (it == robot_joints_.end()) {
+    throw ApiError(grpc::StatusCode::FAILED_PRECONDITION,
+                   "source '" + name + "' has no robot model (robot_models in the daemon's config)");
+  }
+  return *it->second;
+}
+
+v1::JointPositions Pipeline::set_joint_positions(const std::string& source, const JointMap& positions, bool clear) {
+  RobotJoints& joints = robot_joints(source);
+  joints.set(positions, clear);
+  return joints.describe(channel(source).source().name());
+}
+
+v1::JointPositions Pipeline::joint_positions(const std::string& source) const {
+  return robot_joints(source).describe(channel(source).source().name());
 }
 
 void Pipeline::start() {
@@ -437,7 +458,10 @@ void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet
     if (const auto it = robot_models_.find(state->spec.source); it != robot_models_.end()) {
       const Rig& rig = frames.rig ? *frames.rig : *state->rig;
       try {
-        view->overlay(it->second).draw(rendered->image, state->spec, rig, frames.joints);
+        // Joints read now, after the subscribers were: a client that set joints and then
+        // asked for a frame gets one that shows them (merged once, shared by the views).
+        const auto joints = robot_joints_.at(state->spec.source)->effective(frames.joints);
+        view->overlay(it->second).draw(rendered->image, state->spec, rig, joints);
       } catch (const std::exception& e) {
         // A render that fails (say, OSMesa out of memory) must not cost the view its frames.
         std::cerr << "omniviewd: view '" << state->spec.name << "': robot overlay skipped: " << e.what() << "\n";

@@ -27,6 +27,7 @@
 #include "server/pipeline/api_error.h"
 #include "server/pipeline/encoder_pool.h"
 #include "server/pipeline/live_view.h"
+#include "server/pipeline/robot_joints.h"
 #include "server/pipeline/robot_layer.h"
 #include "server/pipeline/source_channel.h"
 #include "server/pipeline/subscriber.h"
@@ -73,6 +74,9 @@ class Pipeline {
   std::shared_ptr<const Rig> rig(const std::string& source) const;
 
   v1::Status status() const;
+  // The robot overlay's joints of `source` ("" = default): set through the API, and read.
+  v1::JointPositions set_joint_positions(const std::string& source, const JointMap& positions, bool clear);
+  v1::JointPositions joint_positions(const std::string& source) const;
   bool stopped() const { return stopped_; }
 
  private:
@@ -82,12 +86,14 @@ class Pipeline {
   void update_wanted_cameras(const std::string& source);
   void render_worker(SourceChannel* channel);
   void render_view(const std::shared_ptr<LiveView>& view, const FrameSet& frames);
+  RobotJoints& robot_joints(const std::string& source) const;  // throws ApiError
   void rebuild_worker();
   void request_rebuild(const std::string& view);
 
   const PipelineLimits limits_;
   std::vector<std::unique_ptr<SourceChannel>> channels_;
   std::map<std::string, std::shared_ptr<const RobotModelSetup>> robot_models_;  // by source; fixed after start
+  std::map<std::string, std::unique_ptr<RobotJoints>> robot_joints_;            // by source; fixed after start
   std::vector<std::thread> workers_;
   std::unique_ptr<EncoderPool> encoder_;  // from start(); stopped after the render workers
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();

@@ -20,13 +20,7 @@ void ViewOverlay::draw(cv::Mat& image, const ViewSpec& spec, const Rig& rig,
   if (!T_model_frame) return;  // a rig without the model's frame yet (a robot not connected)
   std::lock_guard lock(mutex_);
   if (joints && joints != last_joints_) {
-    // Only the joints the model has: a robot with an arm reports more than a URDF of its
-    // legs knows, and that is no error.
-    robot::JointPositions known;
-    for (const auto& [name, value] : *joints) {
-      if (overlay_.model().variable_index(name) >= 0) known[name] = value;
-    }
-    overlay_.set_joint_positions(known);
+    overlay_.set_joint_positions(*joints);  // only the model's joints (RobotJoints filters)
     last_joints_ = joints;
   }
   const auto& layer =

@@ -20,7 +20,7 @@ namespace omniview {
 struct RobotModelSetup {
   std::shared_ptr<const robot::RobotModel> model;
   std::string frame;                   // rig frame of the URDF's root link (empty: the rig's own)
-  std::map<std::string, double> fixed_joints;  // the config's positions, under the live ones
+  std::map<std::string, double> fixed_joints;  // the config's positions (checked against the model)
   robot::OverlayStyle style;
 };
 
@@ -31,8 +31,9 @@ class ViewOverlay {
   explicit ViewOverlay(std::shared_ptr<const RobotModelSetup> setup);
 
   // Draws the robot into `image` at `spec.overlay_opacity`; a grey image becomes BGR first
-  // so the robot keeps its colours. `joints` may be null (the config's positions then).
-  // Does nothing when the rig does not connect the model's frame and the view's.
+  // so the robot keeps its colours. `joints`: every joint's position (RobotJoints::effective;
+  // a new pointer means something moved); null keeps the last ones. Does nothing when the
+  // rig does not connect the model's frame and the view's.
   void draw(cv::Mat& image, const ViewSpec& spec, const Rig& rig,
             const std::shared_ptr<const std::map<std::string, double>>& joints);
 

@@ -149,5 +149,32 @@ TEST_F(MeshFiles, MalformedUrdfNamesTheFile) {
   }
 }
 
+// urdfdom reads "1e300" as a number: anything no robot can have is refused where it is written.
+TEST_F(MeshFiles, NumbersARobotCannotHaveAreRefusedWhereTheyAreWritten) {
+  const struct {
+    std::string body, expected;
+  } cases[] = {
+      {"<link name='a'><visual><origin xyz='1e300 0 0'/><geometry><box size='1 1 1'/></geometry></visual></link>",
+       "link 'a' visual origin"},
+      {"<link name='a'><visual><geometry><box size='1 -1 1'/></geometry></visual></link>", "box size"},
+      {"<link name='a'><visual><geometry><sphere radius='1e300'/></geometry></visual></link>", "sphere radius"},
+      {"<link name='a'/><link name='b'/><joint name='j' type='revolute'><parent link='a'/><child link='b'/>"
+       "<origin xyz='0 0 1e300'/><axis xyz='0 0 1'/><limit lower='0' upper='1' effort='1' velocity='1'/></joint>",
+       "joint 'j' origin"},
+      {"<link name='a'/><link name='b'/><joint name='j' type='continuous'><parent link='a'/><child link='b'/>"
+       "<axis xyz='1e300 0 1'/></joint>",
+       "joint 'j' axis"},
+  };
+  for (const auto& c : cases) {
+    try {
+      load_urdf_string("<robot name='x'>" + c.body + "</robot>", dir_.path(), {}, "bad.urdf");
+      ADD_FAILURE() << "no error for " << c.body;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expected), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bad.urdf"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace omniview::robot

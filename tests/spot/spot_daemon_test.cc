@@ -410,6 +410,16 @@ TEST(SpotSource, BirdseyeShowsTheRobotWithItsReportedLegs) {
   const cv::Rect robot_area(with.width() / 2 - 100, with.height() / 2 - 100, 200, 200);
   EXPECT_EQ(where & robot_area, where) << "changes outside the robot: " << where;
 
+  // The robot's report wins over positions set through the API, and says so.
+  v1::SetJointPositionsRequest set;
+  (*set.mutable_positions())["fl.kn"] = -2.0;
+  v1::JointPositions joints;
+  ASSERT_TRUE(stub->SetJointPositions(make_context().get(), set, &joints).ok());
+  for (const auto& j : joints.joints()) {
+    EXPECT_EQ(j.origin(), v1::Joint::SOURCE) << j.name() << " is reported by the robot";
+    if (j.name() == "fl.kn") EXPECT_NEAR(j.position(), 0.0, 1e-6) << "as the robot reports it";
+  }
+
   v1::UpdateViewRequest off;
   off.set_name("birdseye");
   off.mutable_set()->set_overlay(false);

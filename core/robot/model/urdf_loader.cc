@@ -48,7 +48,18 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& xml, std::string& reason)
   return model;
 }
 
-Pose to_pose(const urdf::Pose& p) {
+// urdfdom reads "nan", "inf" and "1e300" as numbers; a robot drawn from them would vanish
+// or fill the view (and overflow the renderer's floats), so they are refused where they
+// are written. A million (metres, or a mimic's factor) is far beyond any robot.
+void check_finite(std::initializer_list<double> values, const std::string& where) {
+  for (double v : values) {
+    if (!(std::abs(v) <= 1e6)) throw std::runtime_error(where + ": numbers must be finite and within +-1e6");
+  }
+}
+
+Pose to_pose(const urdf::Pose& p, const std::string& where) {
+  check_finite({p.position.x, p.position.y, p.position.z, p.rotation.x, p.rotation.y, p.rotation.z, p.rotation.w},
+               where + " origin");
   Pose out = Pose::Identity();
   out.translation() = Vec3(p.position.x, p.position.y, p.position.z);
   out.linear() = Eigen::Quaterniond(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized().toRotationMatrix();
@@ -74,13 +85,16 @@ class Builder {
     switch (g.type) {
       case urdf::Geometry::BOX: {
         const auto& d = static_cast<const urdf::Box&>(g).dim;
+        check_size({d.x, d.y, d.z}, link, "box size");
         return make_box(Eigen::Vector3f(float(d.x), float(d.y), float(d.z)));
       }
       case urdf::Geometry::CYLINDER: {
         const auto& c = static_cast<const urdf::Cylinder&>(g);
+        check_size({c.radius, c.length}, link, "cylinder radius and length");
         return make_cylinder(float(c.radius), float(c.length));
       }
       case urdf::Geometry::SPHERE:
+        check_size({static_cast<const urdf::Sphere&>(g).radius}, link, "sphere radius");
         return make_sphere(float(static_cast<const urdf::Sphere&>(g).radius));
       case urdf::Geometry::MESH:
         return mesh(static_cast<const urdf::Mesh&>(g), link);
@@ -89,6 +103,16 @@ class Builder {
   }
 
  private:
+  // Sizes in metres: positive, and at most a kilometre (anything larger is a typo, and
+  // would not survive the conversion to float the renderer needs).
+  void check_size(std::initializer_list<double> values, const std::string& link, const std::string& what) const {
+    for (double v : values) {
+      if (!(v > 0 && v <= 1000)) {
+        throw std::runtime_error(what_ + ": link '" + link + "': " + what + " must be in (0, 1000] m");
+      }
+    }
+  }
+
   TriangleMesh mesh(const urdf::Mesh& m, const std::string& link) {
     const Eigen::Vector3f scale(float(m.scale.x), float(m.scale.y), float(m.scale.z));
     if (!scale.allFinite() || scale.cwiseAbs().minCoeff() == 0) {
@@ -113,13 +137,14 @@ class Builder {
   std::map<std::string, TriangleMesh> cache_;  // links often share a mesh file
 };
 
-void add_visuals(const urdf::Link& link, int index, Builder& builder, std::vector<Visual>& out) {
+void add_visuals(const urdf::Link& link, int index, Builder& builder, std::vector<Visual>& out,
+                 const std::string& what) {
   for (const auto& v : link.visual_array) {
     if (!v || !v->geometry) continue;
     TriangleMesh mesh = builder.geometry(*v->geometry, link.name);
     Rgba8 colour;
     if (urdf_colour(*v, colour)) mesh.set_colour(colour);
-    const Pose T = to_pose(v->origin);
+    const Pose T = to_pose(v->origin, what + ": link '" + link.name + "' visual");
     const Eigen::Matrix3f R = T.linear().cast<float>();
     const Eigen::Vector3f t = T.translation().cast<float>();
     for (auto& p : mesh.positions) p = R * p + t;
@@ -131,7 +156,7 @@ void add_visuals(const urdf::Link& link, int index, Builder& builder, std::vecto
 Joint make_joint(const urdf::Joint& j, const std::string& what) {
   Joint out;
   out.name = j.name;
-  out.T_parent_joint = to_pose(j.parent_to_joint_origin_transform);
+  out.T_parent_joint = to_pose(j.parent_to_joint_origin_transform, what + ": joint '" + j.name + "'");
   switch (j.type) {
     case urdf::Joint::REVOLUTE: out.type = JointType::kRevolute; break;
     case urdf::Joint::CONTINUOUS: out.type = JointType::kContinuous; break;
@@ -140,6 +165,7 @@ Joint make_joint(const urdf::Joint& j, const std::string& what) {
   }
   if (out.type != JointType::kFixed) {
     const Vec3 axis(j.axis.x, j.axis.y, j.axis.z);
+    check_finite({axis.x(), axis.y(), axis.z()}, what + ": joint '" + j.name + "' axis");
     if (!(axis.norm() > 1e-9)) throw std::runtime_error(what + ": joint '" + j.name + "' has a zero axis");
     out.axis = axis.normalized();
   }
@@ -165,6 +191,7 @@ RobotModel build(const urdf::ModelInterface& urdf, const fs::path& urdf_dir, con
         mimics[out.joint.name] = link->parent_joint->mimic->joint_name;
         out.joint.multiplier = link->parent_joint->mimic->multiplier;
         out.joint.offset = link->parent_joint->mimic->offset;
+        check_finite({out.joint.multiplier, out.joint.offset}, what + ": joint '" + out.joint.name + "' mimic");
       } else if (out.joint.type != JointType::kFixed) {
         out.joint.variable = static_cast<int>(variables.size());
         variables.push_back(out.joint.name);
@@ -172,7 +199,7 @@ RobotModel build(const urdf::ModelInterface& urdf, const fs::path& urdf_dir, con
     }
     const int index = static_cast<int>(links.size());
     links.push_back(std::move(out));
-    add_visuals(*link, index, builder, visuals);
+    add_visuals(*link, index, builder, visuals, what);
     for (const auto& child : link->child_links) queue.emplace_back(child, index);
   }
   for (auto& link : links) {
