@@ -51,12 +51,17 @@ std::vector<uint64_t> recorded_sequences(const fs::path& recording) {
   return sequences;
 }
 
-// `omniview record ...` made a deliberately slow client: the CLI is stopped (SIGSTOP)
-// `after` into the recording, for `stall`, as a disk that blocks would stop it.
-ProcessResult record_with_stall(const std::string& server, const std::string& args, double after, double stall) {
+// `omniview record -o FOLDER ...` made a deliberately slow client: once the recording has
+// its first frame sets on disk (a loaded machine may take a while to get there), the CLI is
+// stopped (SIGSTOP) for `stall`, as a disk that blocks would stop it.
+ProcessResult record_with_stall(const std::string& server, const fs::path& folder, const std::string& args,
+                                double stall) {
+  const std::string index = (folder / "frames.csv").string();
   std::ostringstream command;
-  command << "{ " << OMNIVIEW_CLI << " record " << args << " --server " << server << " & p=$!; sleep " << after
-          << "; kill -STOP $p; sleep " << stall << "; kill -CONT $p; wait $p; }";
+  command << "{ " << OMNIVIEW_CLI << " record -o " << folder.string() << " " << args << " --server " << server
+          << " & p=$!; for i in $(seq 400); do [ \"$(wc -l < " << index
+          << " 2>/dev/null || echo 0)\" -ge 4 ] && break; sleep 0.05; done; kill -STOP $p; sleep " << stall
+          << "; kill -CONT $p; wait $p; }";
   return run_process(command.str());
 }
 
@@ -157,7 +162,7 @@ TEST_F(Clients, ARecordingReplaysInAnotherDaemon) {
 TEST_F(Clients, ARecordingSlowForAMomentLosesNothing) {
   // 0.6 s stopped at 20 Hz: 12 frame sets, within the daemon's default queue of 32.
   const fs::path recording = dir_.path() / "recording";
-  const auto r = record_with_stall(daemon_.address(), "-o " + recording.string() + " --frames 30", 0.3, 0.6);
+  const auto r = record_with_stall(daemon_.address(), recording, "--frames 30", 0.6);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("recorded 30 frame sets, skipped 0,"), std::string::npos) << r.output;
   const auto sequences = recorded_sequences(recording);
@@ -172,7 +177,7 @@ TEST(Recording, AClientFarBehindSkipsAndSaysHowMany) {
   TempDir dir;
   DaemonProcess daemon(dir, example_config(30, "limits: {record_queue_frame_sets: 4}\n"));
   const fs::path recording = dir.path() / "recording";
-  const auto r = record_with_stall(daemon.address(), "-o " + recording.string() + " --frames 40", 0.3, 5.0);
+  const auto r = record_with_stall(daemon.address(), recording, "--frames 40", 5.0);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto sequences = recorded_sequences(recording);
   ASSERT_EQ(sequences.size(), 40u);
