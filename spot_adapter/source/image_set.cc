@@ -39,19 +39,11 @@ api::GetImageRequest image_request(const RobotSession& session, const SpotSettin
   return request;
 }
 
-ImageSet get_images(RobotSession& session, const SpotSettings& settings, std::vector<CameraSlot>& slots,
-                    const std::vector<size_t>& wanted) {
-  const api::GetImageRequest request = image_request(session, settings, slots, wanted);
-  api::GetImageResponse response;
-  grpc::ClientContext context;
-  session.prepare(context, true);
-  const auto stub = api::ImageService::NewStub(session.service_channel("image"));
-  {
-    RobotSession::CallScope scope(session, context);
-    check_status(stub->GetImage(&context, request, &response), "GetImage");
-  }
+ImageSet images_from_response(const api::GetImageRequest& request, const api::GetImageResponse& response,
+                              std::vector<CameraSlot>& slots, const std::vector<size_t>& wanted) {
   check_header(response.header(), "GetImage");
-  if (response.image_responses_size() != request.image_requests_size()) {
+  if (response.image_responses_size() != request.image_requests_size() ||
+      static_cast<size_t>(request.image_requests_size()) != wanted.size()) {
     throw SpotError(SpotError::Kind::kProtocol, "GetImage answered " + std::to_string(response.image_responses_size()) +
                                                     " images for " + std::to_string(request.image_requests_size()) +
                                                     " requested");

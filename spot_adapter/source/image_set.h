@@ -1,5 +1,5 @@
-// One GetImage round trip for the cameras some view needs: the request (formats with
-// fallbacks for greyscale and colour robots) and the response checked image by image.
+// A GetImage for the cameras some view needs: the request (formats with fallbacks for
+// greyscale and colour robots) and the response checked image by image.
 #pragma once
 
 #include <chrono>
@@ -33,13 +33,15 @@ struct ImageSet {
   std::vector<std::string> problems;    // one line per bad image, for health and the log
 };
 
-// Requests `wanted` (slot indices) in one call, so the images are hardware-synchronised.
-// Throws SpotError for a failed call; bad single images end up in ImageSet::problems.
-ImageSet get_images(RobotSession& session, const SpotSettings& settings, std::vector<CameraSlot>& slots,
-                    const std::vector<size_t>& wanted);
-
-// The request get_images() sends (separate for tests).
+// The request for `wanted` (slot indices): one call, so the images are hardware-synchronised.
 bosdyn::api::GetImageRequest image_request(const RobotSession& session, const SpotSettings& settings,
                                            const std::vector<CameraSlot>& slots, const std::vector<size_t>& wanted);
+
+// The answer to image_request(), checked image by image: bad single images end up in
+// ImageSet::problems; a response that is unusable as a whole (a header error, the wrong
+// number of images) throws SpotError. A camera that refuses its pixel format is switched
+// to the camera's own (`slots`) for the next request.
+ImageSet images_from_response(const bosdyn::api::GetImageRequest& request, const bosdyn::api::GetImageResponse& response,
+                              std::vector<CameraSlot>& slots, const std::vector<size_t>& wanted);
 
 }  // namespace omniview::spot

@@ -49,7 +49,7 @@ SpotSettings parse_spot_settings(const SourceConfig& config) {
   const YamlReader& r = *config.reader;
   r.expect_keys(config.node, config.path,
                 {"name", "type", "robot", "ca_file", "credentials_file", "cameras", "rate_hz", "image_format",
-                 "jpeg_quality", "pixel_format", "timeout_s"});
+                 "jpeg_quality", "pixel_format", "timeout_s", "requests_in_flight"});
   SpotSettings s;
   const YAML::Node robot = r.required(config.node, "robot", config.path);
   try {
@@ -110,6 +110,12 @@ SpotSettings parse_spot_settings(const SourceConfig& config) {
   const double timeout = positive_number(config, "timeout_s", 2);
   if (timeout > 60) r.fail(config.node["timeout_s"], config.path + ".timeout_s", "must be <= 60 s");
   s.timeout = std::chrono::milliseconds(static_cast<int64_t>(timeout * 1000));
+  if (const YAML::Node n = config.node["requests_in_flight"]) {
+    s.requests_in_flight = r.integer(n, config.path + ".requests_in_flight");
+    if (s.requests_in_flight < 1 || s.requests_in_flight > 4) {
+      r.fail(n, config.path + ".requests_in_flight", "must be in 1..4");
+    }
+  }
   return s;
 }
 

@@ -103,6 +103,7 @@ void SpotSource::stop() {
   }
   wake_.notify_all();
   session_.cancel();  // a call in flight to an unreachable robot ends now, not at its deadline
+  calls_.interrupt();  // the source's thread cancels its image calls on the way out
   if (thread_.joinable()) thread_.join();
 }
 
@@ -228,6 +229,17 @@ void SpotSource::connect() {
   log(std::string(unchanged ? "reconnected to " : "connected to ") + session_.robot() + " at " + to_string(settings_.address) + "; cameras: " + join(names) +
       (note.empty() ? "" : "; " + note));
   connect_note_ = note;
+  // The robot's pose now, so that the first frames do not show it in the URDF's zero pose.
+  if (robot_state_available_) {
+    try {
+      joints_ = read_joint_states(session_);
+      joints_read_ = Clock::now();
+    } catch (const SpotError& e) {
+      if (e.kind() != SpotError::Kind::kProtocol) throw;  // away again: the usual handling
+      robot_state_available_ = false;  // a robot (or image service) without robot state: no overlay joints
+      log("no joint angles for the robot overlay: " + std::string(e.what()));
+    }
+  }
   report(true, note);
   if (!unchanged) announce_rig();
 }
@@ -270,8 +282,19 @@ void SpotSource::fill_gaps(ImageSet& set, const std::vector<size_t>& wanted, Clo
   }
 }
 
-void SpotSource::pull_once(const std::vector<size_t>& wanted) {
-  ImageSet set = get_images(session_, settings_, slots_, wanted);
+void SpotSource::start_call(const std::vector<size_t>& wanted) {
+  auto call = std::make_unique<ImageCall>();
+  call->wanted = wanted;
+  call->request = image_request(session_, settings_, slots_, wanted);
+  call->stub = api::ImageService::NewStub(session_.service_channel("image"));
+  session_.prepare(call->context, true);
+  calls_.start(std::move(call));
+}
+
+void SpotSource::finish_call(ImageCall& call) {
+  check_status(call.status, "GetImage");
+  const std::vector<size_t>& wanted = call.wanted;
+  ImageSet set = images_from_response(call.request, call.response, slots_, wanted);
   const auto arrival = Clock::now();
   if (!set.problems.empty()) {
     {
@@ -286,12 +309,17 @@ void SpotSource::pull_once(const std::vector<size_t>& wanted) {
   }
   if (set.good == 0) return;
   fill_gaps(set, wanted, arrival);
-  if (robot_state_available_ && Clock::now() - joints_read_ > kJointInterval) {
-    joints_read_ = Clock::now();
+  if (robot_state_available_) {
+    // The newest joint angles there are; the next read starts now and is taken later.
+    auto answer = joint_reader_.take();
+    if (answer.joints) joints_ = std::move(answer.joints);
     try {
-      joints_ = get_joint_states(session_);
+      if (!answer.refusal.empty()) throw SpotError(SpotError::Kind::kProtocol, answer.refusal);
+      if (Clock::now() - joints_read_ > kJointInterval) {
+        joints_read_ = Clock::now();
+        joint_reader_.request(session_);
+      }
     } catch (const SpotError& e) {
-      if (e.kind() != SpotError::Kind::kProtocol) throw;  // the robot went away: the usual handling
       robot_state_available_ = false;  // a robot (or image service) without robot state: no overlay joints
       log("no joint angles for the robot overlay: " + std::string(e.what()));
     }
@@ -382,32 +410,52 @@ std::chrono::milliseconds SpotSource::on_error(const SpotError& e) {
 
 void SpotSource::run() {
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / settings_.rate_hz));
+  const size_t max_in_flight = static_cast<size_t>(settings_.requests_in_flight);
+  Clock::time_point next_call;  // when the next GetImage may start: calls start rate_hz apart
   while (true) {
-    const auto cycle = Clock::now();
-    Clock::time_point next;
     try {
-      if (session_.cancelled()) return;
+      if (session_.cancelled()) break;
       if (!session_.connected()) connect();
       session_.refresh_if_due();
       const auto wanted = wanted_slots();
-      if (wanted.empty()) {
+      const auto now = Clock::now();
+      if (wanted.empty() && calls_.in_flight() == 0) {
         report(true, connect_note_);
-        next = cycle + std::chrono::seconds(1);  // nobody watches: pull nothing
-      } else {
-        pull_once(wanted);
+        if (!sleep_until(now + std::chrono::seconds(1))) break;  // nobody watches: pull nothing
+        continue;
+      }
+      if (!wanted.empty() && now >= next_call && calls_.in_flight() < max_in_flight) {
+        start_call(wanted);
+        // On the beat while on time; a start a whole period late sets a new beat rather
+        // than bunching the next calls to catch up.
+        next_call = now - next_call < period ? next_call + period : now + period;
+      }
+      // The oldest answer, or the time to start the next call, whichever comes first.
+      const bool can_start = !wanted.empty() && calls_.in_flight() < max_in_flight;
+      const auto wait = can_start ? next_call : now + settings_.timeout + std::chrono::seconds(1);
+      if (calls_.in_flight() == 0) {
+        if (!sleep_until(wait)) break;
+        continue;
+      }
+      if (auto call = calls_.wait_oldest(wait)) {
+        finish_call(*call);
         if (failures_ > 0) log("images flowing again after " + std::to_string(failures_) + " failed attempt(s)");
         failures_ = 0;
-        next = cycle + period;
       }
     } catch (const SpotError& e) {
-      if (session_.cancelled()) return;
-      next = Clock::now() + on_error(e);
+      calls_.cancel_all();  // their answers would come from a session that is being repaired
+      joint_reader_.cancel();
+      if (session_.cancelled()) break;
+      if (!sleep_until(Clock::now() + on_error(e))) break;
     } catch (const std::exception& e) {  // a rig the core refuses, a bad allocation: keep going
-      if (session_.cancelled()) return;
-      next = Clock::now() + on_error(SpotError(SpotError::Kind::kProtocol, e.what()));
+      calls_.cancel_all();
+      joint_reader_.cancel();
+      if (session_.cancelled()) break;
+      if (!sleep_until(Clock::now() + on_error(SpotError(SpotError::Kind::kProtocol, e.what())))) break;
     }
-    if (!sleep_until(next)) return;
   }
+  calls_.cancel_all();
+  joint_reader_.cancel();
 }
 
 std::unique_ptr<Source> make_spot_source(const SourceConfig& config) { return std::make_unique<SpotSource>(config); }
@@ -417,7 +465,7 @@ void register_spot_source() {
   std::call_once(once, [] {
     register_source_type("spot",
                          "Boston Dynamics Spot over its gRPC API (keys: robot, ca_file, credentials_file, cameras, "
-                         "rate_hz, image_format, jpeg_quality, pixel_format, timeout_s)",
+                         "rate_hz, image_format, jpeg_quality, pixel_format, timeout_s, requests_in_flight)",
                          make_spot_source);
   });
 }

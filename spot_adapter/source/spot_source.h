@@ -3,7 +3,8 @@
 //
 // One thread per source: connect (login, robot id, directory, image sources and frame
 // tree -> rig), then while some view needs cameras pull them in one GetImage per cycle at
-// rate_hz; with nobody watching nothing is pulled. A robot that goes away is retried with
+// rate_hz, up to requests_in_flight calls overlapping (a Wi-Fi round trip is longer than a
+// cycle), answers handled in order; with nobody watching nothing is pulled. A robot that goes away is retried with
 // a short backoff (views resume within about a second of its return); refused logins are
 // retried rarely, so a wrong password never trips the robot's lockout.
 #pragma once
@@ -18,7 +19,9 @@
 #include "spot_adapter/client/robot_channels.h"
 #include "spot_adapter/client/robot_session.h"
 #include "spot_adapter/client/spot_error.h"
+#include "spot_adapter/source/image_calls.h"
 #include "spot_adapter/source/image_set.h"
+#include "spot_adapter/source/joint_states.h"
 #include "spot_adapter/source/spot_settings.h"
 
 namespace omniview::spot {
@@ -39,7 +42,9 @@ class SpotSource : public Source {
  private:
   void run();
   void connect();
-  void pull_once(const std::vector<size_t>& wanted);
+  // One GetImage for `wanted`, answered later (calls_); then its images become a frame set.
+  void start_call(const std::vector<size_t>& wanted);
+  void finish_call(ImageCall& call);
   void refresh_tree(const std::vector<FrameEdge>& edges);
   void fill_gaps(ImageSet& set, const std::vector<size_t>& wanted, std::chrono::steady_clock::time_point now);
   void set_rig(std::shared_ptr<const Rig> rig);
@@ -55,6 +60,8 @@ class SpotSource : public Source {
   RobotChannels channels_;
   RobotSession session_;
   FrameCallback on_frame_;
+  ImageCalls calls_;  // before thread_: the thread uses these until joined
+  JointStateReader joint_reader_;
   std::thread thread_;
 
   // Only the source's thread touches these.

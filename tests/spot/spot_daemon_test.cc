@@ -223,12 +223,6 @@ class FrameReader {
   std::thread thread_;
 };
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // Neither log may hold the robot's password or anything token-like.
 void expect_no_secrets(const std::string& log, const std::string& password) {
@@ -345,6 +339,28 @@ TEST(SpotSource, PullsOnlyTheCamerasWatchedViewsNeed) {
   EXPECT_EQ(mock_control(mock, "--counters").at("get_image_calls"), calls);
 }
 
+// Over Wi-Fi a round trip takes longer than a 15 Hz cycle: GetImage calls overlap
+// (requests_in_flight, 2 by default), so the rate is not one image set per round trip, and
+// the joint angles, read beside them, never hold the images up.
+TEST(SpotSource, OverlappingCallsBeatTheRoundTripOnASlowLink) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port, "test", {"--latency-ms", "250"});
+  const std::string view = "views:\n  - {name: behind, type: perspective, source: spot, width: 160, height: 120,"
+                           " frame: body, pose: {ypr_deg: [180, 35, 0]}, hfov_deg: 40}\n";
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir), view));
+  auto stub = make_stub(daemon.address());
+  FrameReader reader(*stub, "behind");
+  ASSERT_TRUE(eventually([&] { return reader.frames() >= 3; }, 20s)) << daemon.log();
+  const size_t before = reader.frames();
+  std::this_thread::sleep_for(3s);
+  const double rate = static_cast<double>(reader.frames() - before) / 3.0;
+  std::cout << "image sets per second at a 250 ms round trip: " << rate << "\n";
+  // One call at a time: at most 4 per second; two overlapping: up to 8.
+  EXPECT_GT(rate, 5.5 / test_time_scale()) << daemon.log();
+  EXPECT_EQ(source_status(*stub).errors(), 0u) << source_status(*stub).DebugString();
+}
+
 TEST(SpotSource, ColourAndGreyRobotsRawAndJpegThroughTheFallbackFormats) {
   const std::string rgb_raw = "    image_format: raw\n    pixel_format: rgb\n";
   {
@@ -417,7 +433,9 @@ TEST(SpotSource, BirdseyeShowsTheRobotWithItsReportedLegs) {
   ASSERT_TRUE(stub->SetJointPositions(make_context().get(), set, &joints).ok());
   for (const auto& j : joints.joints()) {
     EXPECT_EQ(j.origin(), v1::Joint::SOURCE) << j.name() << " is reported by the robot";
-    if (j.name() == "fl.kn") EXPECT_NEAR(j.position(), 0.0, 1e-6) << "as the robot reports it";
+    if (j.name() == "fl.kn") {
+      EXPECT_NEAR(j.position(), 0.0, 1e-6) << "as the robot reports it";
+    }
   }
 
   v1::UpdateViewRequest off;
