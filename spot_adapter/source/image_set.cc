@@ -69,7 +69,10 @@ ImageSet images_from_response(const api::GetImageRequest& request, const api::Ge
       for (auto& e : frame_edges(shot.transforms_snapshot(), "image '" + slot.source + "'")) {
         set.edges.push_back(std::move(e));
       }
-      if (set.good == 0 && shot.has_acquisition_time()) set.capture_time = to_time_point(shot.acquisition_time());
+      if (set.good == 0 && shot.has_acquisition_time()) {
+        set.capture_time = to_time_point(shot.acquisition_time());
+        set.robot_time = true;
+      }
       set.images[wanted[k]] = std::move(d.image);
       set.encoded[wanted[k]] = std::move(d.encoded);
       ++set.good;

@@ -28,7 +28,8 @@ struct ImageSet {
   std::vector<cv::Mat> images;          // one per slot; empty where not wanted or bad
   std::vector<EncodedImage> encoded;    // one per slot
   std::vector<FrameEdge> edges;         // every response's frame tree, merged
-  std::chrono::system_clock::time_point capture_time;  // robot clock
+  std::chrono::system_clock::time_point capture_time;  // robot clock, unless the robot sent none
+  bool robot_time = false;              // capture_time is the robot's acquisition time
   size_t good = 0;                      // usable images
   std::vector<std::string> problems;    // one line per bad image, for health and the log
 };

@@ -1,6 +1,8 @@
 #include "spot_adapter/source/spot_source.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <mutex>
 
@@ -23,6 +25,8 @@ constexpr auto kErrorLogInterval = std::chrono::seconds(30);
 constexpr auto kChannelResetInterval = std::chrono::seconds(10);
 // Legs move slower than cameras need frames: joint angles at 5 Hz are enough for the overlay.
 constexpr auto kJointInterval = milliseconds(200);
+// Clocks drift by microseconds a second: one time-sync round trip now and then is enough.
+constexpr auto kClockUpdateInterval = std::chrono::seconds(30);
 // How long a camera's last good image stands in for bad ones before it goes black.
 constexpr auto kHoldLastImage = milliseconds(1000);
 
@@ -228,6 +232,7 @@ void SpotSource::connect() {
   const std::string note = missing.empty() ? "" : "not on this robot: " + join(missing) + " (it has: " + join(available) + ")";
   log(std::string(unchanged ? "reconnected to " : "connected to ") + session_.robot() + " at " + to_string(settings_.address) + "; cameras: " + join(names) +
       (note.empty() ? "" : "; " + note));
+  sync_clock();
   connect_note_ = note;
   // The robot's pose now, so that the first frames do not show it in the URDF's zero pose.
   if (robot_state_available_) {
@@ -242,6 +247,30 @@ void SpotSource::connect() {
   }
   report(true, note);
   if (!unchanged) announce_rig();
+}
+
+void SpotSource::sync_clock() {
+  if (!time_sync_available_) return;
+  clock_.reset();  // a robot back after a restart may have forgotten our clock identifier
+  try {
+    clock_.sync(session_);
+  } catch (const SpotError& e) {
+    if (e.kind() != SpotError::Kind::kProtocol) throw;  // away again: the usual handling
+    time_sync_available_ = false;
+    log("no time sync with the robot, capture times are its clock's: " + std::string(e.what()));
+    return;
+  }
+  clock_updated_ = Clock::now();
+  if (!clock_.synced()) {
+    log("the robot's clock is not synchronised yet; capture times are its clock's until it is");
+    return;
+  }
+  const double skew_s = std::chrono::duration<double>(clock_.skew()).count();
+  char text[160];
+  std::snprintf(text, sizeof text, "robot clock %.3f s %s ours (round trip %.1f ms); capture times are ours",
+                std::abs(skew_s), skew_s >= 0 ? "ahead of" : "behind",
+                std::chrono::duration<double, std::milli>(clock_.round_trip()).count());
+  log(text);
 }
 
 void SpotSource::refresh_tree(const std::vector<FrameEdge>& edges) {
@@ -333,7 +362,8 @@ void SpotSource::finish_call(ImageCall& call) {
   }
   auto frames = std::make_shared<FrameSet>();
   frames->sequence = ++sequence_;
-  frames->capture_time = set.capture_time;
+  // On our clock, so capture times and ages mean what they say.
+  frames->capture_time = set.robot_time && clock_.synced() ? clock_.to_local(set.capture_time) : set.capture_time;
   frames->arrival = arrival;
   {
     std::lock_guard lock(mutex_);
@@ -417,6 +447,16 @@ void SpotSource::run() {
       if (session_.cancelled()) break;
       if (!session_.connected()) connect();
       session_.refresh_if_due();
+      if (time_sync_available_ && Clock::now() - clock_updated_ > kClockUpdateInterval) {
+        clock_updated_ = Clock::now();
+        try {
+          clock_.update(session_);  // one round trip; clocks drift
+        } catch (const SpotError& e) {
+          if (e.kind() != SpotError::Kind::kProtocol) throw;  // away: the usual handling
+          time_sync_available_ = false;
+          log("time sync with the robot stopped, capture times are its clock's from now: " + std::string(e.what()));
+        }
+      }
       const auto wanted = wanted_slots();
       const auto now = Clock::now();
       if (wanted.empty() && calls_.in_flight() == 0) {

@@ -17,6 +17,7 @@
 
 #include "server/source/source_registry.h"
 #include "spot_adapter/client/robot_channels.h"
+#include "spot_adapter/client/robot_clock.h"
 #include "spot_adapter/client/robot_session.h"
 #include "spot_adapter/client/spot_error.h"
 #include "spot_adapter/source/image_calls.h"
@@ -46,6 +47,7 @@ class SpotSource : public Source {
   void start_call(const std::vector<size_t>& wanted);
   void finish_call(ImageCall& call);
   void refresh_tree(const std::vector<FrameEdge>& edges);
+  void sync_clock();  // at connect: the robot's clock against ours (time-sync service)
   void fill_gaps(ImageSet& set, const std::vector<size_t>& wanted, std::chrono::steady_clock::time_point now);
   void set_rig(std::shared_ptr<const Rig> rig);
   void announce_rig();
@@ -82,6 +84,9 @@ class SpotSource : public Source {
   std::shared_ptr<const std::map<std::string, double>> joints_;
   std::chrono::steady_clock::time_point joints_read_;
   bool robot_state_available_ = true;  // false once the robot said it has no such service
+  RobotClock clock_;
+  std::chrono::steady_clock::time_point clock_updated_;
+  bool time_sync_available_ = true;  // false once the robot said it has no such service
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;

@@ -361,6 +361,26 @@ TEST(SpotSource, OverlappingCallsBeatTheRoundTripOnASlowLink) {
   EXPECT_EQ(source_status(*stub).errors(), 0u) << source_status(*stub).DebugString();
 }
 
+// A robot's clock is not ours: images carry its acquisition time, and the source turns it
+// into ours with the robot's time-sync service, so a frame's capture time and age are true.
+TEST(SpotSource, CaptureTimesAreOnOurClockHoweverTheRobotsIsSet) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port, "test", {"--clock-offset-ms", "-7000"});
+  const std::string view = "views:\n  - {name: behind, type: perspective, source: spot, width: 160, height: 120,"
+                           " frame: body, pose: {ypr_deg: [180, 35, 0]}, hfov_deg: 40}\n";
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir), view));
+  auto stub = make_stub(daemon.address());
+  v1::Frame f;
+  ASSERT_TRUE(snapshot(*stub, "behind", f).ok()) << daemon.log();
+  const double age_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count() -
+                       (static_cast<double>(f.capture_time().seconds()) + f.capture_time().nanos() * 1e-9);
+  EXPECT_GE(age_s, 0.0) << "captured before it arrived";
+  EXPECT_LT(age_s, 1.0 * test_time_scale()) << "the robot's clock is 7 s behind; uncorrected the age would be 7 s";
+  EXPECT_NE(daemon.log().find("robot clock 7.0"), std::string::npos) << daemon.log();
+  EXPECT_NE(daemon.log().find("behind ours"), std::string::npos) << daemon.log();
+}
+
 TEST(SpotSource, ColourAndGreyRobotsRawAndJpegThroughTheFallbackFormats) {
   const std::string rgb_raw = "    image_format: raw\n    pixel_format: rgb\n";
   {

@@ -26,6 +26,7 @@
 #include "bosdyn/api/point_cloud_service.grpc.pb.h"
 #include "bosdyn/api/robot_id_service.grpc.pb.h"
 #include "bosdyn/api/robot_state_service.grpc.pb.h"
+#include "bosdyn/api/time_sync_service.grpc.pb.h"
 
 namespace {
 
@@ -45,6 +46,7 @@ const std::vector<std::string> kFiles = {
     "bosdyn/api/image.proto",        "bosdyn/api/image_service.proto",
     "bosdyn/api/point_cloud.proto",  "bosdyn/api/point_cloud_service.proto",
     "bosdyn/api/robot_state.proto",  "bosdyn/api/robot_state_service.proto",
+    "bosdyn/api/time_sync.proto",    "bosdyn/api/time_sync_service.proto",
 };
 
 std::string Hex(const std::string& bytes) {
@@ -244,6 +246,23 @@ const std::vector<FieldSpec> kFields = {
     {"RobotStateRequest", "header", 1, "bosdyn.api.RequestHeader"},
     {"RobotStateResponse", "header", 1, "bosdyn.api.ResponseHeader"},
     {"RobotStateResponse", "robot_state", 2, "bosdyn.api.RobotState"},
+    // time_sync.proto
+    {"TimeSyncRoundTrip", "client_tx", 1, "google.protobuf.Timestamp"},
+    {"TimeSyncRoundTrip", "server_rx", 2, "google.protobuf.Timestamp"},
+    {"TimeSyncRoundTrip", "server_tx", 3, "google.protobuf.Timestamp"},
+    {"TimeSyncRoundTrip", "client_rx", 4, "google.protobuf.Timestamp"},
+    {"TimeSyncEstimate", "round_trip_time", 1, "google.protobuf.Duration"},
+    {"TimeSyncEstimate", "clock_skew", 2, "google.protobuf.Duration"},
+    {"TimeSyncState", "best_estimate", 1, "bosdyn.api.TimeSyncEstimate"},
+    {"TimeSyncState", "status", 2, "bosdyn.api.TimeSyncState.Status"},
+    {"TimeSyncState", "measurement_time", 3, "google.protobuf.Timestamp"},
+    {"TimeSyncUpdateRequest", "header", 1, "bosdyn.api.RequestHeader"},
+    {"TimeSyncUpdateRequest", "previous_round_trip", 2, "bosdyn.api.TimeSyncRoundTrip"},
+    {"TimeSyncUpdateRequest", "clock_identifier", 3, "string"},
+    {"TimeSyncUpdateResponse", "header", 1, "bosdyn.api.ResponseHeader"},
+    {"TimeSyncUpdateResponse", "previous_estimate", 2, "bosdyn.api.TimeSyncEstimate"},
+    {"TimeSyncUpdateResponse", "state", 3, "bosdyn.api.TimeSyncState"},
+    {"TimeSyncUpdateResponse", "clock_identifier", 4, "string"},
 };
 
 struct EnumSpec {
@@ -283,6 +302,9 @@ const std::vector<EnumSpec> kEnums = {
      {{"STATUS_UNKNOWN", 0}, {"STATUS_OK", 1}, {"STATUS_SOURCE_DATA_ERROR", 2},
       {"STATUS_POINT_CLOUD_DATA_ERROR", 3}, {"STATUS_UNKNOWN_SOURCE", 4},
       {"STATUS_UNSUPPORTED_CLOUD_TYPE", 5}}},
+    {"TimeSyncState.Status",
+     {{"STATUS_UNKNOWN", 0}, {"STATUS_OK", 1}, {"STATUS_MORE_SAMPLES_NEEDED", 2},
+      {"STATUS_SERVICE_NOT_READY", 3}}},
 };
 
 struct MethodSpec {
@@ -313,6 +335,9 @@ const std::vector<std::pair<const char*, std::vector<MethodSpec>>> kServices = {
     {"bosdyn.api.RobotStateService",
      {{"bosdyn.api.RobotStateService.GetRobotState", "RobotStateRequest",
        "RobotStateResponse"}}},
+    {"bosdyn.api.TimeSyncService",
+     {{"bosdyn.api.TimeSyncService.TimeSyncUpdate", "TimeSyncUpdateRequest",
+       "TimeSyncUpdateResponse"}}},
 };
 
 const DescriptorPool* Pool() { return DescriptorPool::generated_pool(); }
@@ -444,7 +469,7 @@ TEST(SpotProtoServices, MethodNamesMatchTheSpotApi) {
       EXPECT_FALSE(m->server_streaming()) << m->full_name();
     }
   }
-  EXPECT_EQ(services, 6u);
+  EXPECT_EQ(services, 7u);
   // The generated stubs carry the same names.
   EXPECT_STREQ(api::AuthService::service_full_name(), "bosdyn.api.AuthService");
   EXPECT_STREQ(api::DirectoryService::service_full_name(), "bosdyn.api.DirectoryService");
@@ -452,6 +477,7 @@ TEST(SpotProtoServices, MethodNamesMatchTheSpotApi) {
   EXPECT_STREQ(api::ImageService::service_full_name(), "bosdyn.api.ImageService");
   EXPECT_STREQ(api::PointCloudService::service_full_name(), "bosdyn.api.PointCloudService");
   EXPECT_STREQ(api::RobotStateService::service_full_name(), "bosdyn.api.RobotStateService");
+  EXPECT_STREQ(api::TimeSyncService::service_full_name(), "bosdyn.api.TimeSyncService");
 }
 
 // ---------------------------------------------------------------------------------------
@@ -694,6 +720,13 @@ class RobotState final : public api::RobotStateService::Service {
   }
 };
 
+class TimeSync final : public api::TimeSyncService::Service {
+  grpc::Status TimeSyncUpdate(grpc::ServerContext*, const api::TimeSyncUpdateRequest* q,
+                              api::TimeSyncUpdateResponse* a) override {
+    return Answer(q->header(), "TimeSyncUpdate", a);
+  }
+};
+
 class SpotGrpcPaths : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -704,6 +737,7 @@ class SpotGrpcPaths : public ::testing::Test {
     builder.RegisterService(&images_);
     builder.RegisterService(&point_clouds_);
     builder.RegisterService(&robot_state_);
+    builder.RegisterService(&time_sync_);
     server_ = builder.BuildAndStart();
     ASSERT_NE(server_, nullptr);
     channel_ = server_->InProcessChannel(grpc::ChannelArguments());
@@ -750,6 +784,7 @@ class SpotGrpcPaths : public ::testing::Test {
   Images images_;
   PointClouds point_clouds_;
   RobotState robot_state_;
+  TimeSync time_sync_;
   std::unique_ptr<grpc::Server> server_;
   std::shared_ptr<grpc::Channel> channel_;
 };
@@ -773,6 +808,8 @@ TEST_F(SpotGrpcPaths, EveryRpcAnswersOnItsBosdynApiPath) {
       "/bosdyn.api.PointCloudService/GetPointCloud", "GetPointCloud");
   ExpectAnswered<api::RobotStateRequest, api::RobotStateResponse>(
       "/bosdyn.api.RobotStateService/GetRobotState", "GetRobotState");
+  ExpectAnswered<api::TimeSyncUpdateRequest, api::TimeSyncUpdateResponse>(
+      "/bosdyn.api.TimeSyncService/TimeSyncUpdate", "TimeSyncUpdate");
 }
 
 TEST_F(SpotGrpcPaths, AWrongPathIsUnimplemented) {

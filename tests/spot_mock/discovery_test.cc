@@ -34,6 +34,7 @@ TEST_F(SpotMockDiscovery, DirectoryListsTheServicesWithTypeAndAuthority) {
       {"image", {"bosdyn.api.ImageService", "api.spot.robot"}},
       {"point-cloud", {"bosdyn.api.PointCloudService", "api.spot.robot"}},
       {"robot-state", {"bosdyn.api.RobotStateService", "api.spot.robot"}},
+      {"time-sync", {"bosdyn.api.TimeSyncService", "api.spot.robot"}},
   };
   EXPECT_EQ(entries, expected);
 }

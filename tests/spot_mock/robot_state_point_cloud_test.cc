@@ -2,9 +2,11 @@
 #include <cstring>
 
 #include <google/protobuf/unknown_field_set.h>
+#include <google/protobuf/util/time_util.h>
 
 #include "bosdyn/api/point_cloud_service.grpc.pb.h"
 #include "bosdyn/api/robot_state_service.grpc.pb.h"
+#include "bosdyn/api/time_sync_service.grpc.pb.h"
 #include "spot_adapter/mock/world/mock_scene.h"
 #include "tests/spot_mock/mock_fixture.h"
 
@@ -60,6 +62,50 @@ TEST_F(SpotMockRobot, TwelveStandingJointsAtSpotsFieldNumbers) {
   const std::string first_joint = field_bytes(kinematic_state, 2, &joints);
   EXPECT_EQ(joints, 12);
   EXPECT_EQ(field_bytes(first_joint, 1), "fl.hx");
+}
+
+// Time sync as the robot does it: the client reports each round trip with the next call;
+// after a few the robot calls its estimate good. This mock's clock is this machine's, so
+// the skew is within a round trip of zero.
+TEST_F(SpotMockRobot, TimeSyncNeedsAFewRoundTripsThenEstimatesTheSkew) {
+  namespace api = bosdyn::api;
+  const auto stub = api::TimeSyncService::NewStub(mock().channel("api.spot.robot"));
+  const std::string token = mock().login();
+  const auto now = [] {
+    return google::protobuf::util::TimeUtil::NanosecondsToTimestamp(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+            .count());
+  };
+  api::TimeSyncRoundTrip previous;
+  std::string clock;
+  api::TimeSyncUpdateResponse response;
+  for (int i = 0; i < 4; ++i) {
+    api::TimeSyncUpdateRequest request;
+    if (i > 0) *request.mutable_previous_round_trip() = previous;
+    request.set_clock_identifier(clock);
+    const auto sent = now();
+    ASSERT_TRUE(stub->TimeSyncUpdate(spot_context(token).get(), request, &response).ok());
+    previous.Clear();
+    *previous.mutable_client_tx() = sent;
+    *previous.mutable_server_rx() = response.header().request_received_timestamp();
+    *previous.mutable_server_tx() = response.header().response_timestamp();
+    *previous.mutable_client_rx() = now();
+    if (i > 0) {
+      EXPECT_EQ(response.clock_identifier(), clock) << "the robot keeps the identifier it gave";
+    }
+    clock = response.clock_identifier();
+    EXPECT_EQ(response.state().status(), i < 3 ? api::TimeSyncState::STATUS_MORE_SAMPLES_NEEDED
+                                               : api::TimeSyncState::STATUS_OK)
+        << "exchange " << i;
+  }
+  EXPECT_FALSE(clock.empty());
+  const auto& best = response.state().best_estimate();
+  const int64_t skew = google::protobuf::util::TimeUtil::DurationToNanoseconds(best.clock_skew());
+  const int64_t rtt = google::protobuf::util::TimeUtil::DurationToNanoseconds(best.round_trip_time());
+  EXPECT_GE(rtt, 0);
+  EXPECT_LE(std::abs(skew), rtt / 2 + 1000000) << "skew " << skew << " ns, round trip " << rtt << " ns";
+  // Without a token, as every api.spot.robot service.
+  EXPECT_EQ(stub->TimeSyncUpdate(spot_context("").get(), {}, &response).error_code(), grpc::StatusCode::UNAUTHENTICATED);
 }
 
 TEST_F(SpotMockRobot, ControlServiceMovesJoints) {

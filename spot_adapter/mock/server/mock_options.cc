@@ -33,6 +33,8 @@ void print_mock_help() {
       "  --rgb                        a colour robot (RGB_U8); default greyscale like most Spots\n"
       "  --supersample N              rays per pixel along each axis when rendering (default 2)\n"
       "  --ready-file FILE            once serving, write HOST:PORT to FILE\n"
+      "  --clock-offset-ms N          the robot's clock runs N ms ahead of this machine's (negative:\n"
+      "                               behind); clients correct for it with TimeSyncService\n"
       "\n"
       "Faults (also settable at run time with `spot-mock control --set KEY=VALUE`):\n"
       "  --latency-ms N               added to every bosdyn.api call\n"
@@ -122,6 +124,8 @@ ParsedOptions parse_mock_options(const std::vector<std::string>& args) {
         f.corrupt_probability = parse_probability(arg, value());
       } else if (arg == "--wrong-size-probability") {
         f.wrong_size_probability = parse_probability(arg, value());
+      } else if (arg == "--clock-offset-ms") {
+        o.clock_offset = std::chrono::milliseconds(parse_int(arg, value(), -86400000, 86400000));
       } else if (arg == "--away") {
         f.away = true;
       } else {

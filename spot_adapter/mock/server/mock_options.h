@@ -2,6 +2,8 @@
 // control/control_command.h).
 #pragma once
 
+#include <chrono>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@ struct MockOptions {
   std::string certs_dir = "out/spot-mock";
   std::string credentials_file = "out/spot-mock/credentials.yaml";
   std::string ready_file;
+  std::chrono::milliseconds clock_offset{0};  // the robot's clock minus this machine's
   MockRobotConfig robot;  // scene, colour, faults, token policy (credentials come from the file)
 };
 

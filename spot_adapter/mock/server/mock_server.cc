@@ -15,6 +15,8 @@
 #include "spot_adapter/mock/services/image_service.h"
 #include "spot_adapter/mock/services/point_cloud_service.h"
 #include "spot_adapter/mock/services/robot_id_service.h"
+#include "spot_adapter/mock/services/time_sync_service.h"
+#include "spot_adapter/mock/wire/spot_messages.h"
 #include "spot_adapter/mock/services/robot_state_service.h"
 
 namespace omniview::spot_mock {
@@ -48,6 +50,8 @@ MockServer::MockServer(const MockOptions& options) {
   image_ = std::make_unique<ImageService>(*robot_);
   point_cloud_ = std::make_unique<PointCloudService>(*robot_);
   robot_state_ = std::make_unique<RobotStateService>(*robot_);
+  time_sync_ = std::make_unique<TimeSyncService>(*robot_);
+  set_robot_clock_offset(options.clock_offset);
   control_ = std::make_unique<ControlService>(*robot_);
 
   grpc::ServerBuilder builder;
@@ -61,7 +65,7 @@ MockServer::MockServer(const MockOptions& options) {
   builder.SetMaxSendMessageSize(kMaxMessageBytes);
   for (grpc::Service* s : std::initializer_list<grpc::Service*>{auth_.get(), directory_.get(), robot_id_.get(),
                                                                 image_.get(), point_cloud_.get(), robot_state_.get(),
-                                                                control_.get()}) {
+                                                                time_sync_.get(), control_.get()}) {
     builder.RegisterService(s);
   }
   server_ = builder.BuildAndStart();

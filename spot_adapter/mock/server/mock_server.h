@@ -17,6 +17,7 @@ class RobotIdService;
 class ImageService;
 class PointCloudService;
 class RobotStateService;
+class TimeSyncService;
 class ControlService;
 
 class MockServer {
@@ -39,6 +40,7 @@ class MockServer {
   std::unique_ptr<ImageService> image_;
   std::unique_ptr<PointCloudService> point_cloud_;
   std::unique_ptr<RobotStateService> robot_state_;
+  std::unique_ptr<TimeSyncService> time_sync_;
   std::unique_ptr<ControlService> control_;
   std::unique_ptr<grpc::Server> server_;
   std::string address_;

@@ -21,6 +21,7 @@ constexpr Listing kListings[] = {
     {"image", "bosdyn.api.ImageService", "api.spot.robot", true},
     {"point-cloud", "bosdyn.api.PointCloudService", "api.spot.robot", true},
     {"robot-state", "bosdyn.api.RobotStateService", "api.spot.robot", true},
+    {"time-sync", "bosdyn.api.TimeSyncService", "api.spot.robot", true},
 };
 
 }  // namespace

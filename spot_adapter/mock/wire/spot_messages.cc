@@ -1,8 +1,19 @@
 #include "spot_adapter/mock/wire/spot_messages.h"
 
+#include <atomic>
+
 #include "spot_adapter/mock/world/mock_scene.h"
 
 namespace omniview::spot_mock {
+namespace {
+std::atomic<int64_t> robot_clock_offset_ms{0};
+}  // namespace
+
+void set_robot_clock_offset(std::chrono::milliseconds offset) { robot_clock_offset_ms = offset.count(); }
+
+std::chrono::system_clock::time_point robot_now() {
+  return std::chrono::system_clock::now() + std::chrono::milliseconds(robot_clock_offset_ms.load());
+}
 
 google::protobuf::Timestamp to_timestamp(std::chrono::system_clock::time_point t) {
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();

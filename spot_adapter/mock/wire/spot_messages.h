@@ -15,7 +15,12 @@
 namespace omniview::spot_mock {
 
 google::protobuf::Timestamp to_timestamp(std::chrono::system_clock::time_point t);
-inline google::protobuf::Timestamp now_timestamp() { return to_timestamp(std::chrono::system_clock::now()); }
+
+// The robot's clock: this machine's plus an offset (--clock-offset-ms), as a real robot's
+// clock differs from its clients'. Every time the mock sends is on it.
+void set_robot_clock_offset(std::chrono::milliseconds offset);
+std::chrono::system_clock::time_point robot_now();
+inline google::protobuf::Timestamp now_timestamp() { return to_timestamp(robot_now()); }
 
 // request_header copied, received/response times set, error.code = CODE_OK.
 void fill_response_header(const bosdyn::api::RequestHeader& request, const google::protobuf::Timestamp& received,
