@@ -1,5 +1,6 @@
 // `omniview joints [SOURCE] [NAME=VALUE ...]`: the joint positions the robot overlay draws,
 // read or set (robots whose source does not report its joints).
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <numbers>
@@ -25,13 +26,14 @@ radians for revolute joints, metres for prismatic ones, or degrees with a 'deg' 
 
 )") + connection_help();
 
-// "fl.kn=-92deg" -> {"fl.kn", -1.6057}
-std::pair<std::string, double> parse_assignment(const std::string& text) {
+// "fl.kn=-92deg" -> {"fl.kn", -1.6057}; `degrees` tells whether the value was in degrees.
+std::pair<std::string, double> parse_assignment(const std::string& text, bool& degrees) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0) throw UsageError("expected NAME=VALUE, got '" + text + "'");
   std::string value = text.substr(eq + 1);
   double scale = 1;
-  if (value.size() > 3 && value.compare(value.size() - 3, 3, "deg") == 0) {
+  degrees = value.size() > 3 && value.compare(value.size() - 3, 3, "deg") == 0;
+  if (degrees) {
     value.resize(value.size() - 3);
     scale = std::numbers::pi / 180;
   }
@@ -61,9 +63,13 @@ void print(const v1::JointPositions& joints) {
   }
   Table table({"JOINT", "POSITION", "", "FROM"});
   for (const auto& j : joints.joints()) {
-    const bool angle = j.unit() == "rad";
-    table.add({j.name(), fixed(j.position(), 4) + " " + j.unit(),
-               angle ? "(" + fixed(j.position() * 180 / std::numbers::pi, 1) + " deg)" : "", origin_text(j.origin())});
+    std::string degrees;
+    if (j.unit() == "rad") {
+      degrees = "(";
+      degrees += fixed(j.position() * 180 / std::numbers::pi, 1);
+      degrees += " deg)";
+    }
+    table.add({j.name(), fixed(j.position(), 4) + " " + j.unit(), degrees, origin_text(j.origin())});
   }
   table.print(std::cout, "  ");
 }
@@ -75,6 +81,7 @@ int joints_command(const std::vector<std::string>& argv) {
   if (!args) return 0;
   std::string source;
   v1::SetJointPositionsRequest set;
+  std::vector<std::string> in_degrees;
   for (const auto& p : args->positional()) {
     if (p.find('=') == std::string::npos) {
       if (!source.empty() || set.positions_size() > 0) {
@@ -83,26 +90,54 @@ int joints_command(const std::vector<std::string>& argv) {
       source = p;
       continue;
     }
-    const auto [name, value] = parse_assignment(p);
+    bool degrees = false;
+    const auto [name, value] = parse_assignment(p, degrees);
     if (set.positions().count(name)) throw UsageError("joint '" + name + "' given twice");
     (*set.mutable_positions())[name] = value;
+    if (degrees) in_degrees.push_back(name);
   }
   Connection connection(connection_options(*args));
+  const auto get = [&] {
+    v1::GetJointPositionsRequest request;
+    request.set_source(source);
+    v1::JointPositions joints;
+    grpc::ClientContext context;
+    connection.prepare(context, true);
+    connection.check(connection.stub().GetJointPositions(&context, request, &joints), "");
+    return joints;
+  };
+  if (set.positions().empty() && !args->has("clear")) {
+    print(get());
+    return 0;
+  }
+  if (!in_degrees.empty()) {
+    // Degrees only for angles: a prismatic joint's 'deg' would silently become metres.
+    const v1::JointPositions known = get();
+    for (const auto& j : known.joints()) {
+      if (j.unit() != "rad" && std::find(in_degrees.begin(), in_degrees.end(), j.name()) != in_degrees.end()) {
+        throw UsageError("joint '" + j.name() + "' is prismatic: give metres, not degrees");
+      }
+    }
+  }
+  set.set_source(source);
+  set.set_clear(args->has("clear"));
   v1::JointPositions joints;
   grpc::ClientContext context;
-  const std::string what = source.empty() ? "joints" : "joints of source '" + source + "'";
-  if (set.positions().empty() && !args->has("clear")) {
-    v1::GetJointPositionsRequest get;
-    get.set_source(source);
-    connection.prepare(context, true);
-    connection.check(connection.stub().GetJointPositions(&context, get, &joints), what);
-  } else {
-    set.set_source(source);
-    set.set_clear(args->has("clear"));
-    connection.prepare(context, true);
-    connection.check(connection.stub().SetJointPositions(&context, set, &joints), what);
-  }
+  connection.prepare(context, true);
+  connection.check(connection.stub().SetJointPositions(&context, set, &joints), "");
   print(joints);
+  // The source's own report wins: say so rather than seem to ignore the request.
+  std::string overridden;
+  for (const auto& j : joints.joints()) {
+    if (j.origin() == v1::Joint::SOURCE && set.positions().count(j.name())) {
+      overridden += (overridden.empty() ? "" : ", ") + j.name();
+    }
+  }
+  if (!overridden.empty()) {
+    std::cerr << "note: source '" << joints.source() << "' reports " << overridden
+              << " itself, and what the robot reports wins; the values set here show only for joints it does not "
+                 "report\n";
+  }
   return 0;
 }
 

@@ -84,7 +84,8 @@ void validate(const ViewSpec& s) {
   check(s.overlay_opacity >= 0 && s.overlay_opacity <= 1, s, "overlay_opacity",
         "must be in [0, 1], got " + num(s.overlay_opacity));
   check(!s.overlay || s.type == ViewType::kPerspective || s.type == ViewType::kBirdseye, s, "overlay",
-        "the robot overlay is drawn into perspective and birdseye views only, not " + to_string(s.type) + " views");
+        "is for perspective and birdseye views only (the robot is drawn through a pinhole), not " +
+            to_string(s.type) + " views");
   switch (s.type) {
     case ViewType::kPerspective:
       check(s.hfov_deg > 0 && s.hfov_deg < 180, s, "hfov_deg",

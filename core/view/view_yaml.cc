@@ -1,6 +1,8 @@
 #include "core/view/view_yaml.h"
 
 #include <algorithm>
+#include <iomanip>
+#include <sstream>
 
 #include "core/view/view_keys.h"
 
@@ -124,6 +126,24 @@ std::vector<ViewSpec> parse_views(const YamlReader& r) {
   return views;
 }
 
+namespace {
+
+// 12 significant digits: 0.42 and 0.9 print as written, not as 0.41999999999999998 (yaml-cpp
+// turns a double into text when it is assigned, with every digit a double can hold).
+YAML::Node number(double v) {
+  std::ostringstream text;
+  text << std::setprecision(12) << v;
+  return YAML::Node(text.str());
+}
+
+YAML::Node numbers(std::initializer_list<double> values) {
+  YAML::Node n(YAML::NodeType::Sequence);
+  for (double v : values) n.push_back(number(v));
+  return n;
+}
+
+}  // namespace
+
 YAML::Node view_to_yaml(const ViewSpec& s) {
   YAML::Node n;
   n["name"] = s.name;
@@ -132,40 +152,40 @@ YAML::Node view_to_yaml(const ViewSpec& s) {
   n["height"] = s.height;
   if (!s.source.empty()) n["source"] = s.source;
   if (!s.frame.empty()) n["frame"] = s.frame;
-  n["pose"]["xyz"] = std::vector<double>{s.position.x(), s.position.y(), s.position.z()};
-  n["pose"]["ypr_deg"] = std::vector<double>{s.yaw_deg, s.pitch_deg, s.roll_deg};
+  n["pose"]["xyz"] = numbers({s.position.x(), s.position.y(), s.position.z()});
+  n["pose"]["ypr_deg"] = numbers({s.yaw_deg, s.pitch_deg, s.roll_deg});
   switch (s.type) {
     case ViewType::kPerspective:
-      n["hfov_deg"] = s.hfov_deg;
-      n["distance"] = s.distance;
+      n["hfov_deg"] = number(s.hfov_deg);
+      n["distance"] = number(s.distance);
       break;
     case ViewType::kBirdseye:
-      n["hfov_deg"] = s.hfov_deg;
-      n["height_m"] = s.height_m;
-      n["ground_z"] = s.ground_z;
+      n["hfov_deg"] = number(s.hfov_deg);
+      n["height_m"] = number(s.height_m);
+      n["ground_z"] = number(s.ground_z);
       break;
     case ViewType::kCylindrical:
-      n["radius"] = s.radius;
-      n["vfov_deg"] = s.vfov_deg;
-      n["azimuth_span_deg"] = s.azimuth_span_deg;
+      n["radius"] = number(s.radius);
+      n["vfov_deg"] = number(s.vfov_deg);
+      n["azimuth_span_deg"] = number(s.azimuth_span_deg);
       break;
     case ViewType::kMercator:
     case ViewType::kEquirectangular:
-      n["radius"] = s.radius;
-      n["azimuth_span_deg"] = s.azimuth_span_deg;
-      n["lat_min_deg"] = s.lat_min_deg;
-      n["lat_max_deg"] = s.lat_max_deg;
+      n["radius"] = number(s.radius);
+      n["azimuth_span_deg"] = number(s.azimuth_span_deg);
+      n["lat_min_deg"] = number(s.lat_min_deg);
+      n["lat_max_deg"] = number(s.lat_max_deg);
       break;
     case ViewType::kFisheye:
-      n["radius"] = s.radius;
-      n["fov_deg"] = s.fov_deg;
+      n["radius"] = number(s.radius);
+      n["fov_deg"] = number(s.fov_deg);
       break;
   }
   n["fusion"] = to_string(s.fusion);
-  n["feather_px"] = s.feather_px;
+  n["feather_px"] = number(s.feather_px);
   if (s.type == ViewType::kPerspective || s.type == ViewType::kBirdseye) {
     n["overlay"] = s.overlay;
-    n["overlay_opacity"] = s.overlay_opacity;
+    n["overlay_opacity"] = number(s.overlay_opacity);
   }
   return n;
 }

@@ -1,5 +1,7 @@
 #include "server/pipeline/robot_layer.h"
 
+#include <iostream>
+
 #include <opencv2/imgproc.hpp>
 
 #include "core/robot/overlay/composite.h"
@@ -17,8 +19,20 @@ void ViewOverlay::draw(cv::Mat& image, const ViewSpec& spec, const Rig& rig,
   const std::string model_frame = setup_->frame.empty() ? rig.default_frame() : setup_->frame;
   const std::string view_frame = spec.frame.empty() ? rig.default_frame() : spec.frame;
   const auto T_model_frame = rig.frames().try_lookup(model_frame, view_frame);
-  if (!T_model_frame) return;  // a rig without the model's frame yet (a robot not connected)
   std::lock_guard lock(mutex_);
+  if (!T_model_frame) {
+    // Views render only once a source delivers images, so its rig is the real one: say
+    // once why the robot is missing (a typo in robot_models[].frame) instead of nothing.
+    if (!warned_missing_frame_) {
+      std::string known;
+      for (const auto& f : rig.known_frames()) known += (known.empty() ? "" : ", ") + f;
+      std::cerr << "omniviewd: view '" << spec.name << "': robot overlay not drawn: frame '" << model_frame
+                << "' (robot_models[].frame) is not connected to the view's frame '" << view_frame
+                << "' in source '" << spec.source << "' (its frames: " << known << ")" << std::endl;
+      warned_missing_frame_ = true;
+    }
+    return;
+  }
   if (joints && joints != last_joints_) {
     overlay_.set_joint_positions(*joints);  // only the model's joints (RobotJoints filters)
     last_joints_ = joints;

@@ -44,6 +44,7 @@ class ViewOverlay {
   mutable std::mutex mutex_;
   robot::RobotOverlay overlay_;
   std::shared_ptr<const std::map<std::string, double>> last_joints_;
+  bool warned_missing_frame_ = false;
 };
 
 }  // namespace omniview

@@ -137,6 +137,15 @@ TEST_F(MeshFiles, MalformedUrdfNamesTheFile) {
     EXPECT_NE(std::string(e.what()).find("nobody"), std::string::npos) << e.what();
   }
   EXPECT_THROW(load_urdf_file(dir_.path() / "does_not_exist.urdf"), std::runtime_error);
+  // A URI scheme we do not read.
+  test::write_text(dir_.path() / "web.urdf", "<robot name='w'><link name='base'><visual><geometry>"
+                                             "<mesh filename='http://example.com/base.stl'/></geometry></visual></link></robot>");
+  try {
+    load_urdf_file(dir_.path() / "web.urdf");
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("only package://, file:// and file paths"), std::string::npos) << e.what();
+  }
   // A mesh file that is not a mesh.
   test::write_text(dir_.path() / "cubes/meshes/junk.stl", "this is not a mesh");
   test::write_text(dir_.path() / "junk.urdf", "<robot name='j'><link name='base'><visual><geometry>"
@@ -149,7 +158,8 @@ TEST_F(MeshFiles, MalformedUrdfNamesTheFile) {
   }
 }
 
-// urdfdom reads "1e300" as a number: anything no robot can have is refused where it is written.
+// urdfdom reads "1e300" as a number: anything no robot can have is refused where it is
+// written; and what urdfdom itself cannot read (it would drop the element) is an error too.
 TEST_F(MeshFiles, NumbersARobotCannotHaveAreRefusedWhereTheyAreWritten) {
   const struct {
     std::string body, expected;
@@ -157,6 +167,8 @@ TEST_F(MeshFiles, NumbersARobotCannotHaveAreRefusedWhereTheyAreWritten) {
       {"<link name='a'><visual><origin xyz='1e300 0 0'/><geometry><box size='1 1 1'/></geometry></visual></link>",
        "link 'a' visual origin"},
       {"<link name='a'><visual><geometry><box size='1 -1 1'/></geometry></visual></link>", "box size"},
+      {"<link name='a'><visual><geometry><box size='0.87 0.25'/></geometry></visual></link>", "2 elements but 3 expected"},
+      {"<link name='a'><visual><geometry><cylinder radius='0.1'/></geometry></visual></link>", "both length and radius"},
       {"<link name='a'><visual><geometry><sphere radius='1e300'/></geometry></visual></link>", "sphere radius"},
       {"<link name='a'/><link name='b'/><joint name='j' type='revolute'><parent link='a'/><child link='b'/>"
        "<origin xyz='0 0 1e300'/><axis xyz='0 0 1'/><limit lower='0' upper='1' effort='1' velocity='1'/></joint>",

@@ -66,6 +66,21 @@ TEST_F(OverlayCache, RendersOnlyWhenAnInputChanges) {
   EXPECT_EQ(overlay.render_count(), 7);
 }
 
+// A view placed inside the body (as the robot's own front cameras are) sees out of it: the
+// body is not drawn as walls filling the view, the rest of the robot still is.
+TEST_F(OverlayCache, ACameraInsideThePartSeesOutOfIt) {
+  RobotOverlay overlay(model_);
+  overlay.set_joint_positions({{"fl.hy", 0.8}, {"fl.kn", -1.6}, {"fr.hy", 0.8}, {"fr.kn", -1.6}});
+  // In the body box, 0.42 m ahead of its centre, looking back and down at the legs.
+  const ViewSpec inside = test::birdseye_view(160, 120, 100, 0.42, 0, 0, 180, 60);
+  const OverlayLayer& layer = overlay.layer(pinhole_camera_of(inside), T_frame_optical(inside));
+  std::vector<cv::Mat> channels;
+  cv::split(layer.bgra, channels);
+  const double covered = cv::countNonZero(channels[3]) / static_cast<double>(layer.bgra.total());
+  EXPECT_LT(covered, 0.6) << "the body's inside would cover everything";
+  EXPECT_GT(covered, 0.01) << "the legs are still drawn";
+}
+
 TEST_F(OverlayCache, OutlineRingsTheSilhouette) {
   RobotOverlay plain(model_), outlined(model_, OverlayStyle{2, cv::Scalar(10, 20, 30)});
   const OverlayLayer a = plain.layer(camera_, pose_);

@@ -35,6 +35,13 @@ std::vector<fs::path> MeshSearchPath::candidates(const std::string& uri, const f
 }
 
 fs::path MeshSearchPath::resolve(const std::string& uri, const fs::path& urdf_dir) const {
+  // Other URI schemes (http://, model://) are not read from the network or elsewhere:
+  // say so rather than look for a file called "http:".
+  const size_t scheme = uri.find("://");
+  if (scheme != std::string::npos && !starts_with(uri, "package://") && !starts_with(uri, "file://")) {
+    throw std::runtime_error("mesh '" + uri + "': only package://, file:// and file paths are supported (download it "
+                             "and point mesh_path at its folder)");
+  }
   const auto tried = candidates(uri, urdf_dir);
   for (const auto& p : tried) {
     std::error_code ec;

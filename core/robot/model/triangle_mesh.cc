@@ -27,6 +27,16 @@ void TriangleMesh::append(const TriangleMesh& other) {
 
 void TriangleMesh::set_colour(const Rgba8& colour) { std::fill(colours.begin(), colours.end(), colour); }
 
+bool TriangleMesh::box_contains(const Eigen::Vector3f& p) const {
+  if (positions.empty()) return false;
+  Eigen::Vector3f lo = positions[0], hi = positions[0];
+  for (const auto& q : positions) {
+    lo = lo.cwiseMin(q);
+    hi = hi.cwiseMax(q);
+  }
+  return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
+}
+
 void TriangleMesh::bounding_sphere(Eigen::Vector3f& centre, float& radius) const {
   if (positions.empty()) {
     centre.setZero();

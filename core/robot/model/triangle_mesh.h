@@ -30,6 +30,8 @@ struct TriangleMesh {
   void set_colour(const Rgba8& colour);
   // Smallest sphere centred at the box centre that holds every vertex (renderer depth range).
   void bounding_sphere(Eigen::Vector3f& centre, float& radius) const;
+  // Whether `p` lies inside the mesh's axis-aligned bounding box.
+  bool box_contains(const Eigen::Vector3f& p) const;
 };
 
 }  // namespace omniview::robot

@@ -221,7 +221,10 @@ RobotModel load_urdf_string(const std::string& xml, const fs::path& urdf_dir, co
                             const std::string& what) {
   std::string reason;
   const auto urdf = parse(xml, reason);
-  if (!urdf || !urdf->getRoot()) {
+  // urdfdom drops some elements it cannot read (a <box> with two sizes, a <cylinder>
+  // without a length) and only logs why: the robot would be drawn without them. Any error
+  // it reports makes the file malformed.
+  if (!urdf || !urdf->getRoot() || !reason.empty()) {
     throw std::runtime_error("malformed URDF " + what + (reason.empty() ? "" : ": " + reason));
   }
   return build(*urdf, urdf_dir, search_path, what);

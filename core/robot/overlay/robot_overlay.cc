@@ -29,7 +29,14 @@ const OverlayLayer& RobotOverlay::layer(const PinholeCamera& camera, const Pose&
   const std::vector<Pose> link_poses = model_->link_poses(positions_);
   std::vector<DrawItem> items;
   items.reserve(model_->visuals().size());
-  for (const auto& visual : model_->visuals()) items.push_back({&visual.mesh, link_poses[visual.link]});
+  const Vec3 camera_in_robot = T_robot_camera.translation();
+  for (const auto& visual : model_->visuals()) {
+    // A camera inside a part (a view placed in the body, where the robot's own cameras are)
+    // sees out of it, not its inside walls filling the whole view.
+    const Vec3 camera_in_mesh = link_poses[visual.link].inverse() * camera_in_robot;
+    if (visual.mesh.box_contains(camera_in_mesh.cast<float>())) continue;
+    items.push_back({&visual.mesh, link_poses[visual.link]});
+  }
   layer_.bgra = renderer_.render(items, camera, T_robot_camera);
   layer_.bbox = alpha_bounding_box(layer_.bgra);
   add_outline(layer_, style_.outline_px, style_.outline_bgr);
