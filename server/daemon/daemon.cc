@@ -25,6 +25,7 @@ std::shared_ptr<const RobotModelSetup> load_robot_model(const RobotModelEntry& e
       robot::load_urdf_file(entry.urdf_file, robot::MeshSearchPath({entry.mesh_path.begin(), entry.mesh_path.end()})));
   auto positions = setup->model->zero_positions();
   setup->model->apply(entry.joints, positions);  // names a joint the URDF lacks: an error here
+  setup->model->check_limits(entry.joints);      // and a position beyond the URDF's limits
   setup->frame = entry.frame;
   setup->fixed_joints = entry.joints;
   setup->style.outline_px = entry.outline_px;

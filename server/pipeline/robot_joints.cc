@@ -22,6 +22,11 @@ void RobotJoints::set(const JointMap& updates, bool clear) {
       throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "joint '" + name + "': position must be a finite number");
     }
   }
+  try {
+    model.check_limits(updates);
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+  }
   std::lock_guard lock(mutex_);
   if (clear) api_.clear();
   for (const auto& [name, value] : updates) api_[name] = value;

@@ -157,6 +157,10 @@ TEST(Overlay, JointsSetThroughTheApiMoveOnlyThatLeg) {
   EXPECT_NE(status.error_message().find("fl.hx"), std::string::npos) << "lists the joints it has";
   set_joints(*stub, {{"fl.hx", std::nan("")}}, false, &status);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  set_joints(*stub, {{"fl.kn", 0.5}}, false, &status);  // a knee bent backwards
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(status.error_message().find("outside its limits [-2.79, -0.25] rad"), std::string::npos)
+      << status.error_message();
   ASSERT_TRUE(stub->GetJointPositions(make_context().get(), {}, &joints).ok());
   EXPECT_EQ(find_joint(joints, "fl.hx")->origin(), v1::Joint::URDF_ZERO);
   v1::GetJointPositionsRequest other;
@@ -227,6 +231,8 @@ TEST(Overlay, ModelMistakesRefuseToStartNamingTheEntry) {
       {example_config(10, "robot_models:\n  - {source: examples, urdf: " + urdf() + ", joints: {elbow: 1}}\n"),
        "elbow"},
       {example_config(10, "views:\n  - {name: v, type: birdseye, overlay: true}\n"), "robot_models"},
+      {example_config(10, "robot_models:\n  - {source: examples, urdf: " + urdf() + ", joints: {fl.kn: 1}}\n"),
+       "outside its limits"},
   };
   for (const auto& c : cases) {
     const std::string config = dir.write("bad.yaml", c.config);

@@ -1,6 +1,7 @@
 #include "core/robot/model/robot_model.h"
 
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace omniview::robot {
@@ -41,6 +42,23 @@ void RobotModel::apply(const JointPositions& updates, std::vector<double>& posit
     }
   }
   for (const auto& [joint, value] : updates) positions[variable_index(joint)] = value;
+}
+
+void RobotModel::check_limits(const JointPositions& positions) const {
+  for (const auto& [name, value] : positions) {
+    for (const auto& link : links_) {
+      const Joint& j = link.joint;
+      if (j.name != name || !j.limited) continue;
+      // A hair of slack: limits written in degrees and converted round to the last digit.
+      constexpr double kSlack = 1e-6;
+      if (value < j.lower - kSlack || value > j.upper + kSlack) {
+        std::ostringstream msg;
+        msg << "joint '" << name << "' of robot '" << name_ << "': " << value << " is outside its limits [" << j.lower
+            << ", " << j.upper << "] " << (j.type == JointType::kPrismatic ? "m" : "rad");
+        throw std::invalid_argument(msg.str());
+      }
+    }
+  }
 }
 
 std::vector<Pose> RobotModel::link_poses(const std::vector<double>& positions) const {

@@ -2,7 +2,8 @@
 //
 // Links are stored parents first, so one pass over them computes every link's pose in the
 // root link's frame (the robot's base frame, REP-103). Joint positions are radians for
-// revolute and continuous joints, metres for prismatic ones; limits are not enforced.
+// revolute and continuous joints, metres for prismatic ones; limits are checked only on
+// request (check_limits), since a robot's report is drawn as it is.
 // Floating and planar joints are held at their origin (nothing reports their state here).
 // Immutable once built: share one model between views and threads.
 #pragma once
@@ -28,6 +29,8 @@ struct Joint {
   Vec3 axis = Vec3::UnitX();               // unit, in the joint frame
   int variable = -1;                       // index into the position vector; -1 when fixed
   double multiplier = 1, offset = 0;       // mimic: q = multiplier * q[variable] + offset
+  bool limited = false;                    // revolute and prismatic joints with limits
+  double lower = 0, upper = 0;             // rad or m
 };
 
 struct Link {
@@ -61,6 +64,9 @@ class RobotModel {
   // movable joint of this robot (listing the ones it has) or a non-finite value, leaving
   // `positions` unchanged.
   void apply(const JointPositions& updates, std::vector<double>& positions) const;
+  // Throws std::invalid_argument naming the joint and its URDF limits for a position
+  // outside them (for positions people give: a robot's own report is drawn as it is).
+  void check_limits(const JointPositions& positions) const;
   // Pose of every link (by index) in the root link's frame.
   std::vector<Pose> link_poses(const std::vector<double>& positions) const;
 

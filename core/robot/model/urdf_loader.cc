@@ -169,6 +169,12 @@ Joint make_joint(const urdf::Joint& j, const std::string& what) {
     if (!(axis.norm() > 1e-9)) throw std::runtime_error(what + ": joint '" + j.name + "' has a zero axis");
     out.axis = axis.normalized();
   }
+  if ((out.type == JointType::kRevolute || out.type == JointType::kPrismatic) && j.limits &&
+      j.limits->upper > j.limits->lower) {  // both 0: no limits given
+    out.limited = true;
+    out.lower = j.limits->lower;
+    out.upper = j.limits->upper;
+  }
   return out;
 }
 
