@@ -22,20 +22,12 @@ google::protobuf::Timestamp now() {
 
 bool RobotClock::exchange(RobotSession& session) {
   api::TimeSyncUpdateRequest request;
-  *request.mutable_header() = session.request_header();
   if (previous_.has_client_rx()) *request.mutable_previous_round_trip() = previous_;
   request.set_clock_identifier(clock_id_);
-  api::TimeSyncUpdateResponse response;
-  grpc::ClientContext context;
-  session.prepare(context, true);
-  const auto stub = api::TimeSyncService::NewStub(session.service_channel("time-sync"));
   const auto sent = now();
-  {
-    RobotSession::CallScope scope(session, context);
-    check_status(stub->TimeSyncUpdate(&context, request, &response), "TimeSyncUpdate");
-  }
+  const api::TimeSyncUpdateResponse response =
+      session.call("time-sync", &api::TimeSyncService::Stub::TimeSyncUpdate, request, "TimeSyncUpdate");
   const auto received = now();
-  check_header(response.header(), "TimeSyncUpdate");
   clock_id_ = response.clock_identifier();
   // This round trip, for the robot to measure with the next exchange.
   previous_.Clear();

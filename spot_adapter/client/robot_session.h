@@ -14,6 +14,7 @@
 
 #include "bosdyn/api/header.pb.h"
 #include "spot_adapter/client/robot_channels.h"
+#include "spot_adapter/client/spot_error.h"
 
 namespace omniview::spot {
 
@@ -39,6 +40,15 @@ class RobotSession {
   // The channel of directory service `service` ("image", "robot-state"); throws
   // SpotError(kProtocol) naming the services the robot has when it lacks this one.
   std::shared_ptr<grpc::Channel> service_channel(const std::string& service) const;
+
+  // One unary call to directory service `service` with a request header, the token, the
+  // call timeout and cancel() wired up, e.g.
+  //   call("robot-state", &api::RobotStateService::Stub::GetRobotState, request, "GetRobotState").
+  // Throws SpotError naming `what` for a failed call or an error in the response header.
+  template <class Stub, class Request, class Response>
+  Response call(const std::string& service,
+                grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*), Request request,
+                const std::string& what);
 
   // Sets the deadline and, with `authorised`, the bearer token on `context`, and lets
   // cancel() abort the call. Pair with CallScope.
@@ -88,5 +98,22 @@ void check_header(const bosdyn::api::ResponseHeader& header, const std::string& 
 
 // Seconds from issue to expiry of a JWT-shaped token, when its payload says (0: unknown).
 double token_lifetime_s(const std::string& token);
+
+template <class Stub, class Request, class Response>
+Response RobotSession::call(const std::string& service,
+                            grpc::Status (Stub::*method)(grpc::ClientContext*, const Request&, Response*),
+                            Request request, const std::string& what) {
+  *request.mutable_header() = request_header();
+  Response response;
+  grpc::ClientContext context;
+  prepare(context, true);
+  Stub stub(service_channel(service));
+  {
+    CallScope scope(*this, context);
+    check_status((stub.*method)(&context, request, &response), what);
+  }
+  check_header(response.header(), what);
+  return response;
+}
 
 }  // namespace omniview::spot

@@ -21,17 +21,8 @@ std::shared_ptr<const JointMap> joints_from_robot_state(const api::RobotStateRes
 }
 
 std::shared_ptr<const JointMap> read_joint_states(RobotSession& session) {
-  api::RobotStateRequest request;
-  *request.mutable_header() = session.request_header();
-  api::RobotStateResponse response;
-  grpc::ClientContext context;
-  session.prepare(context, true);
-  const auto stub = api::RobotStateService::NewStub(session.service_channel("robot-state"));
-  {
-    RobotSession::CallScope scope(session, context);
-    check_status(stub->GetRobotState(&context, request, &response), "GetRobotState");
-  }
-  return joints_from_robot_state(response);
+  return joints_from_robot_state(session.call("robot-state", &api::RobotStateService::Stub::GetRobotState,
+                                               api::RobotStateRequest(), "GetRobotState"));
 }
 
 struct JointStateReader::Call {

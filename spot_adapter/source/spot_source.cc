@@ -175,17 +175,8 @@ void SpotSource::announce_rig() {
 
 void SpotSource::connect() {
   session_.connect();
-  api::ListImageSourcesRequest request;
-  *request.mutable_header() = session_.request_header();
-  api::ListImageSourcesResponse response;
-  grpc::ClientContext context;
-  session_.prepare(context, true);
-  const auto stub = api::ImageService::NewStub(session_.service_channel("image"));
-  {
-    RobotSession::CallScope scope(session_, context);
-    check_status(stub->ListImageSources(&context, request, &response), "ListImageSources");
-  }
-  check_header(response.header(), "ListImageSources");
+  const api::ListImageSourcesResponse response = session_.call(
+      "image", &api::ImageService::Stub::ListImageSources, api::ListImageSourcesRequest(), "ListImageSources");
 
   std::map<std::string, FrameEdge> tree;
   for (auto& e : frame_edges(response.transforms_snapshot(), "ListImageSources")) tree[e.child] = e;

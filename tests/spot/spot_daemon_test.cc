@@ -339,6 +339,12 @@ TEST(SpotSource, PullsOnlyTheCamerasWatchedViewsNeed) {
   EXPECT_EQ(mock_control(mock, "--counters").at("get_image_calls"), calls);
 }
 
+// A small view of the back camera alone: cheap to render, one camera to pull.
+std::string small_back_view() {
+  return "views:\n  - {name: behind, type: perspective, source: spot, width: 160, height: 120,"
+         " frame: body, pose: {ypr_deg: [180, 35, 0]}, hfov_deg: 40}\n";
+}
+
 // Over Wi-Fi a round trip takes longer than a 15 Hz cycle: GetImage calls overlap
 // (requests_in_flight, 2 by default), so the rate is not one image set per round trip, and
 // the joint angles, read beside them, never hold the images up.
@@ -346,9 +352,7 @@ TEST(SpotSource, OverlappingCallsBeatTheRoundTripOnASlowLink) {
   TempDir dir;
   const int port = free_port();
   SpotMock mock(dir, port, "test", {"--latency-ms", "250"});
-  const std::string view = "views:\n  - {name: behind, type: perspective, source: spot, width: 160, height: 120,"
-                           " frame: body, pose: {ypr_deg: [180, 35, 0]}, hfov_deg: 40}\n";
-  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir), view));
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir), small_back_view()));
   auto stub = make_stub(daemon.address());
   FrameReader reader(*stub, "behind");
   ASSERT_TRUE(eventually([&] { return reader.frames() >= 3; }, 20s)) << daemon.log();
@@ -367,9 +371,7 @@ TEST(SpotSource, CaptureTimesAreOnOurClockHoweverTheRobotsIsSet) {
   TempDir dir;
   const int port = free_port();
   SpotMock mock(dir, port, "test", {"--clock-offset-ms", "-7000"});
-  const std::string view = "views:\n  - {name: behind, type: perspective, source: spot, width: 160, height: 120,"
-                           " frame: body, pose: {ypr_deg: [180, 35, 0]}, hfov_deg: 40}\n";
-  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir), view));
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir), small_back_view()));
   auto stub = make_stub(daemon.address());
   v1::Frame f;
   ASSERT_TRUE(snapshot(*stub, "behind", f).ok()) << daemon.log();
