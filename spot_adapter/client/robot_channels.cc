@@ -10,6 +10,9 @@
 namespace omniview::spot {
 
 RobotAddress parse_robot_address(const std::string& text) {
+  if (text.find("://") != std::string::npos) {
+    throw std::invalid_argument("'" + text + "': give host[:port] without a scheme (the robot speaks gRPC over TLS)");
+  }
   RobotAddress a;
   std::string port;
   if (!text.empty() && text.front() == '[') {  // [IPv6]:port

@@ -25,6 +25,8 @@ constexpr auto kErrorLogInterval = std::chrono::seconds(30);
 constexpr auto kChannelResetInterval = std::chrono::seconds(10);
 // Legs move slower than cameras need frames: joint angles at 5 Hz are enough for the overlay.
 constexpr auto kJointInterval = milliseconds(200);
+// Joint angles older than this (the source was idle) are read again before a frame uses them.
+constexpr auto kJointsStale = milliseconds(1000);
 // Clocks drift by microseconds a second: one time-sync round trip now and then is enough.
 constexpr auto kClockUpdateInterval = std::chrono::seconds(30);
 // How long a camera's last good image stands in for bad ones before it goes black.
@@ -335,11 +337,17 @@ void SpotSource::finish_call(ImageCall& call) {
     if (answer.joints) joints_ = std::move(answer.joints);
     try {
       if (!answer.refusal.empty()) throw SpotError(SpotError::Kind::kProtocol, answer.refusal);
-      if (Clock::now() - joints_read_ > kJointInterval) {
+      if (Clock::now() - joints_read_ > kJointsStale) {
+        // Nothing read for a while (nobody watched): the pose now, for this frame, not
+        // the one from before the pause (one round trip, once).
+        joints_ = read_joint_states(session_);
+        joints_read_ = Clock::now();
+      } else if (Clock::now() - joints_read_ > kJointInterval) {
         joints_read_ = Clock::now();
         joint_reader_.request(session_);
       }
     } catch (const SpotError& e) {
+      if (e.kind() != SpotError::Kind::kProtocol) throw;  // the robot went away: the usual handling
       robot_state_available_ = false;  // a robot (or image service) without robot state: no overlay joints
       log("no joint angles for the robot overlay: " + std::string(e.what()));
     }

@@ -42,6 +42,12 @@ TEST(RobotAddress, HostPortAndIpv6) {
   EXPECT_THROW(parse_robot_address(""), std::invalid_argument);
   EXPECT_THROW(parse_robot_address("spot:99999"), std::invalid_argument);
   EXPECT_THROW(parse_robot_address("spot:http"), std::invalid_argument);
+  try {
+    parse_robot_address("https://10.0.0.3");
+    ADD_FAILURE() << "a URL is no address";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("without a scheme"), std::string::npos) << e.what();
+  }
   EXPECT_EQ(full_authority("image"), "image.spot.robot");
   EXPECT_EQ(full_authority("api.spot.robot"), "api.spot.robot");
 }

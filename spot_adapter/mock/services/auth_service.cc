@@ -9,8 +9,9 @@ using bosdyn::api::GetAuthTokenResponse;
 
 grpc::Status AuthService::GetAuthToken(grpc::ServerContext* ctx, const bosdyn::api::GetAuthTokenRequest* request,
                                        GetAuthTokenResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kNotRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   fill_response_header(request->header(), received, response->mutable_header());
 
   // A token without a username is a refresh, as the SDKs send it.

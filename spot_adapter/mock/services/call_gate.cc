@@ -24,7 +24,7 @@ std::string bearer_token(const grpc::ServerContext& ctx) {
 grpc::Status admit_call(MockRobot& robot, const grpc::ServerContext& ctx, Token token) {
   const FaultSettings faults = robot.faults.get();
   if (faults.away) return {grpc::StatusCode::UNAVAILABLE, "spot-mock: robot unreachable (fault injected: away)"};
-  if (faults.latency_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(faults.latency_ms));
+  if (faults.latency_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(faults.latency_ms / 2));
   if (token == Token::kNotRequired) return grpc::Status::OK;
 
   const std::string presented = bearer_token(ctx);
@@ -40,6 +40,15 @@ grpc::Status admit_call(MockRobot& robot, const grpc::ServerContext& ctx, Token 
             "the bearer token is not valid (expired, revoked or never issued): log in again"};
   }
   return grpc::Status::OK;
+}
+
+ReturnTrip::ReturnTrip(MockRobot& robot) {
+  const int latency = robot.faults.get().latency_ms;
+  delay_ms_ = latency - latency / 2;
+}
+
+ReturnTrip::~ReturnTrip() {
+  if (delay_ms_ > 0) std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms_));
 }
 
 }  // namespace omniview::spot_mock

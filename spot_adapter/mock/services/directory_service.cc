@@ -40,8 +40,9 @@ DirectoryService::DirectoryService(MockRobot& robot) : robot_(robot) {
 grpc::Status DirectoryService::GetServiceEntry(grpc::ServerContext* ctx,
                                                const bosdyn::api::GetServiceEntryRequest* request,
                                                bosdyn::api::GetServiceEntryResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   fill_response_header(request->header(), received, response->mutable_header());
   response->set_status(bosdyn::api::GetServiceEntryResponse::STATUS_NONEXISTENT_SERVICE);
   for (const auto& e : entries_) {
@@ -55,8 +56,9 @@ grpc::Status DirectoryService::GetServiceEntry(grpc::ServerContext* ctx,
 grpc::Status DirectoryService::ListServiceEntries(grpc::ServerContext* ctx,
                                                   const bosdyn::api::ListServiceEntriesRequest* request,
                                                   bosdyn::api::ListServiceEntriesResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   fill_response_header(request->header(), received, response->mutable_header());
   for (const auto& e : entries_) *response->add_service_entries() = e;
   return grpc::Status::OK;

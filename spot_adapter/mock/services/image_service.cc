@@ -33,8 +33,9 @@ ImageService::ImageService(MockRobot& robot) : robot_(robot) {
 
 grpc::Status ImageService::ListImageSources(grpc::ServerContext* ctx, const bosdyn::api::ListImageSourcesRequest* request,
                                             bosdyn::api::ListImageSourcesResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   robot_.counters.increment(&CounterValues::list_image_sources_calls);
   fill_response_header(request->header(), received, response->mutable_header());
   for (const auto& s : sources_) *response->add_image_sources() = s;
@@ -44,8 +45,9 @@ grpc::Status ImageService::ListImageSources(grpc::ServerContext* ctx, const bosd
 
 grpc::Status ImageService::GetImage(grpc::ServerContext* ctx, const bosdyn::api::GetImageRequest* request,
                                     bosdyn::api::GetImageResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   robot_.counters.increment(&CounterValues::get_image_calls);
   for (const auto& r : request->image_requests()) robot_.counters.count_image_request(r.image_source_name());
   fill_response_header(request->header(), received, response->mutable_header());

@@ -38,8 +38,9 @@ bosdyn::api::PointCloudSource PointCloudService::describe_source() const {
 grpc::Status PointCloudService::ListPointCloudSources(grpc::ServerContext* ctx,
                                                       const bosdyn::api::ListPointCloudSourcesRequest* request,
                                                       bosdyn::api::ListPointCloudSourcesResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   fill_response_header(request->header(), received, response->mutable_header());
   *response->add_point_cloud_sources() = describe_source();
   return grpc::Status::OK;
@@ -47,8 +48,9 @@ grpc::Status PointCloudService::ListPointCloudSources(grpc::ServerContext* ctx,
 
 grpc::Status PointCloudService::GetPointCloud(grpc::ServerContext* ctx, const bosdyn::api::GetPointCloudRequest* request,
                                               bosdyn::api::GetPointCloudResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   robot_.counters.increment(&CounterValues::get_point_cloud_calls);
   fill_response_header(request->header(), received, response->mutable_header());
   if (request->point_cloud_requests_size() > kMaxCloudRequests) {

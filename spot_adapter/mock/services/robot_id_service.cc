@@ -7,8 +7,9 @@ namespace omniview::spot_mock {
 
 grpc::Status RobotIdService::GetRobotId(grpc::ServerContext* ctx, const bosdyn::api::RobotIdRequest* request,
                                         bosdyn::api::RobotIdResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kNotRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   fill_response_header(request->header(), received, response->mutable_header());
   auto* id = response->mutable_robot_id();
   id->set_serial_number(kMockSerial);

@@ -7,8 +7,9 @@ namespace omniview::spot_mock {
 
 grpc::Status RobotStateService::GetRobotState(grpc::ServerContext* ctx, const bosdyn::api::RobotStateRequest* request,
                                               bosdyn::api::RobotStateResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   robot_.counters.increment(&CounterValues::get_robot_state_calls);
   fill_response_header(request->header(), received, response->mutable_header());
   auto* kinematics = response->mutable_robot_state()->mutable_kinematic_state();

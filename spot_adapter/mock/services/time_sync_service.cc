@@ -36,8 +36,9 @@ api::TimeSyncEstimate estimate(const api::TimeSyncRoundTrip& t) {
 
 grpc::Status TimeSyncService::TimeSyncUpdate(grpc::ServerContext* ctx, const api::TimeSyncUpdateRequest* request,
                                              api::TimeSyncUpdateResponse* response) {
-  const auto received = now_timestamp();
   if (auto status = admit_call(robot_, *ctx, Token::kRequired); !status.ok()) return status;
+  const ReturnTrip return_trip(robot_);  // the answer travels back after it is stamped
+  const auto received = now_timestamp();
   fill_response_header(request->header(), received, response->mutable_header());
   std::lock_guard lock(mutex_);
   std::string id = request->clock_identifier();
