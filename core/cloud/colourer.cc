@@ -1,0 +1,330 @@
+#include "core/cloud/colourer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/map/usable_region.h"
+
+namespace omniview {
+
+struct CloudColourer::CameraSetup {
+  cv::Mat usable;   // CV_8UC1, 255 where the camera's image, mask and lens allow a pixel
+  cv::Mat feather;  // CV_32F blend weights, made on first use for `feather_px`
+  double feather_px = -1;
+  float cell_px = 1;  // depth buffer cell
+  double px_per_rad = 1;
+  float cx = 0, cy = 0, inv_half_diag2 = 1;
+};
+
+namespace {
+
+constexpr float kFar = std::numeric_limits<float>::max();
+
+using Affine3f = Eigen::Matrix<float, 3, 4>;
+
+Affine3f to_float(const Pose& T) { return T.matrix().topRows<3>().cast<float>(); }
+
+// Projects every point with one camera's model: the variant is visited once, and this
+// loop is specialised per model, so the projection inlines and GCC vectorises it.
+template <typename Model>
+void project_all(const Model& model, const Affine3f& T, const float* x, const float* y, const float* z, size_t n,
+                 float max_u, float max_v, float* u, float* v, float* range, uint8_t* ok) {
+  const float r00 = T(0, 0), r01 = T(0, 1), r02 = T(0, 2), t0 = T(0, 3);
+  const float r10 = T(1, 0), r11 = T(1, 1), r12 = T(1, 2), t1 = T(1, 3);
+  const float r20 = T(2, 0), r21 = T(2, 1), r22 = T(2, 2), t2 = T(2, 3);
+  for (size_t i = 0; i < n; ++i) {
+    const float xc = r00 * x[i] + r01 * y[i] + r02 * z[i] + t0;
+    const float yc = r10 * x[i] + r11 * y[i] + r12 * z[i] + t1;
+    const float zc = r20 * x[i] + r21 * y[i] + r22 * z[i] + t2;
+    float uu, vv;
+    const bool good = model.project(xc, yc, zc, uu, vv);
+    u[i] = uu;
+    v[i] = vv;
+    range[i] = std::sqrt(xc * xc + yc * yc + zc * zc);
+    // Bit 1: the model images it (for the depth buffer, which reaches past the image's
+    // edges); bit 0: also inside the image. NaN coordinates fail every comparison, so
+    // points without a return drop out here.
+    const bool inside = good & (uu >= 0.f) & (vv >= 0.f) & (uu <= max_u) & (vv <= max_v);
+    ok[i] = static_cast<uint8_t>((static_cast<uint8_t>(good) << 1) | static_cast<uint8_t>(inside));
+  }
+}
+
+// Bilinear sample at (u, v) inside [0, W-1] x [0, H-1]; R, G, B out.
+inline void sample(const cv::Mat& image, float u, float v, float rgb[3]) {
+  const int x0 = static_cast<int>(u), y0 = static_cast<int>(v);
+  const int x1 = std::min(x0 + 1, image.cols - 1), y1 = std::min(y0 + 1, image.rows - 1);
+  const float ax = u - x0, ay = v - y0;
+  const float w00 = (1 - ax) * (1 - ay), w01 = ax * (1 - ay), w10 = (1 - ax) * ay, w11 = ax * ay;
+  if (image.type() == CV_8UC1) {
+    const uint8_t* r0 = image.ptr<uint8_t>(y0);
+    const uint8_t* r1 = image.ptr<uint8_t>(y1);
+    const float g = w00 * r0[x0] + w01 * r0[x1] + w10 * r1[x0] + w11 * r1[x1];
+    rgb[0] = rgb[1] = rgb[2] = g;
+    return;
+  }
+  const cv::Vec3b* r0 = image.ptr<cv::Vec3b>(y0);
+  const cv::Vec3b* r1 = image.ptr<cv::Vec3b>(y1);
+  for (int k = 0; k < 3; ++k) {  // BGR in, RGB out
+    rgb[2 - k] = w00 * r0[x0][k] + w01 * r0[x1][k] + w10 * r1[x0][k] + w11 * r1[x1][k];
+  }
+}
+
+// The depth of a surface in front of each cell, from the cloud's own points splatted into
+// `depth` (nearest per cell): a cell is covered when nearer samples lie on both sides of it
+// within `reach` cells, vertically or horizontally (the gap between two of a lidar's rings
+// on a near surface), or in the cell itself. Requiring both sides keeps a surface seen at a
+// grazing angle from hiding itself: there the nearer ring is on one side only.
+void occluding_depth(const cv::Mat& depth, int reach, cv::Mat& up, cv::Mat& down, cv::Mat& left, cv::Mat& right,
+                     cv::Mat& out) {
+  const cv::Scalar far(kFar);
+  cv::erode(depth, up, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, reach + 1)), cv::Point(0, reach), 1,
+            cv::BORDER_CONSTANT, far);
+  cv::erode(depth, down, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, reach + 1)), cv::Point(0, 0), 1,
+            cv::BORDER_CONSTANT, far);
+  cv::erode(depth, left, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(reach + 1, 1)), cv::Point(reach, 0), 1,
+            cv::BORDER_CONSTANT, far);
+  cv::erode(depth, right, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(reach + 1, 1)), cv::Point(0, 0), 1,
+            cv::BORDER_CONSTANT, far);
+  cv::max(up, down, up);
+  cv::max(left, right, left);
+  cv::min(up, left, out);
+}
+
+uint8_t to_byte(float v) { return static_cast<uint8_t>(std::clamp(v + 0.5f, 0.f, 255.f)); }
+
+}  // namespace
+
+CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) {
+  if (!rig_) throw std::invalid_argument("CloudColourer: no rig");
+  if (rig_->cameras().size() >= kNoCamera) throw std::invalid_argument("CloudColourer: more than 254 cameras");
+  for (const auto& cam : rig_->cameras()) {
+    auto s = std::make_shared<CameraSetup>();
+    s->usable = usable_region(cam);
+    s->cx = static_cast<float>((cam.width - 1) / 2.0);
+    s->cy = static_cast<float>((cam.height - 1) / 2.0);
+    s->inv_half_diag2 = 4.0f / static_cast<float>(cam.width * cam.width + cam.height * cam.height);
+    // Pixels per radian near the image centre, from two neighbouring rays.
+    Eigen::Vector3d a, b;
+    if (unproject(cam.model, Eigen::Vector2d(s->cx, s->cy), a) && unproject(cam.model, Eigen::Vector2d(s->cx + 1, s->cy), b)) {
+      const double angle = std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+      if (angle > 0) s->px_per_rad = 1.0 / angle;
+    } else {
+      s->px_per_rad = cam.width / M_PI;
+    }
+    cameras_.push_back(std::move(s));
+  }
+}
+
+ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
+                                  const Trajectory* motion) {
+  cloud.check("cloud");
+  const Rig& rig = *rig_;
+  const size_t n = cloud.size();
+  const size_t n_cams = rig.cameras().size();
+  if (input.images.size() != n_cams) {
+    throw std::invalid_argument("colouring: " + std::to_string(input.images.size()) + " images for " +
+                                std::to_string(n_cams) + " cameras");
+  }
+  if (!input.stamps.empty() && input.stamps.size() != n_cams) {
+    throw std::invalid_argument("colouring: image stamps must be none or one per camera");
+  }
+  const std::string& base = rig.default_frame();
+  const std::string cloud_frame = cloud.frame.empty() ? base : cloud.frame;
+  const auto T_base_cloud = rig.frames().try_lookup(base, cloud_frame);
+  if (!T_base_cloud) {
+    throw std::invalid_argument("colouring: the cloud's frame '" + cloud_frame + "' is not connected to the rig's frame '" +
+                                base + "'");
+  }
+  const bool sync = options.time_sync && motion && !motion->empty();
+
+  // The points where they were at the cloud's stamp (per-point times: one correction per bin).
+  x_.resize(n);
+  y_.resize(n);
+  z_.resize(n);
+  if (sync && !cloud.time.empty()) {
+    const double bin = std::max(1e-5, options.motion_bin_s);
+    const Pose T_cloud_base = T_base_cloud->inverse();
+    float t_min = std::numeric_limits<float>::max(), t_max = std::numeric_limits<float>::lowest();
+    for (float t : cloud.time) {
+      if (std::isfinite(t)) {
+        t_min = std::min(t_min, t);
+        t_max = std::max(t_max, t);
+      }
+    }
+    if (t_min > t_max) t_min = t_max = 0;
+    const size_t bins = std::min<size_t>(100000, static_cast<size_t>((double(t_max) - t_min) / bin) + 1);
+    std::vector<Affine3f> corrections(bins);
+    for (size_t k = 0; k < bins; ++k) {
+      const auto t = cloud.stamp + std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                                       std::chrono::duration<double>(t_min + (k + 0.5) * bin));
+      corrections[k] = to_float(T_cloud_base * motion->relative(cloud.stamp, t) * *T_base_cloud);
+    }
+    for (size_t i = 0; i < n; ++i) {
+      const float t = std::isfinite(cloud.time[i]) ? cloud.time[i] : t_min;
+      const size_t k = std::min(bins - 1, static_cast<size_t>(std::max(0.0, (double(t) - t_min) / bin)));
+      const Eigen::Vector3f p = corrections[k] * cloud.points[i].homogeneous();
+      x_[i] = p.x();
+      y_[i] = p.y();
+      z_[i] = p.z();
+    }
+  } else {
+    for (size_t i = 0; i < n; ++i) {
+      x_[i] = cloud.points[i].x();
+      y_[i] = cloud.points[i].y();
+      z_[i] = cloud.points[i].z();
+    }
+  }
+
+  // Outputs and per-point fusion state.
+  if (cloud.rgb.empty()) cloud.rgb.assign(n, {0, 0, 0});
+  if (cloud.flags.empty()) cloud.flags.assign(n, 0);
+  cloud.camera.assign(n, kNoCamera);
+  for (auto& f : cloud.flags) f &= static_cast<uint8_t>(~(cloud_flags::kColoured | cloud_flags::kOccluded));
+  const bool blend = options.fusion == Fusion::kBlend;
+  best_cam_.assign(n, kNoCamera);
+  hidden_.assign(n, 0);
+  if (blend) {
+    sum_w_.assign(n, 0.f);
+    sum_r_.assign(n, 0.f);
+    sum_g_.assign(n, 0.f);
+    sum_b_.assign(n, 0.f);
+    best_w_.assign(n, 0.f);
+  } else {
+    best_score_.assign(n, std::numeric_limits<float>::max());
+    best_u_.resize(n);
+    best_v_.resize(n);
+  }
+  u_.resize(n);
+  v_.resize(n);
+  range_.resize(n);
+  valid_.resize(n);
+
+  for (size_t c = 0; c < n_cams; ++c) {
+    const cv::Mat& image = input.images[c];
+    if (image.empty()) continue;
+    const Camera& cam = rig.cameras()[c];
+    if (image.cols != cam.width || image.rows != cam.height || (image.type() != CV_8UC1 && image.type() != CV_8UC3)) {
+      throw std::invalid_argument("colouring: camera '" + cam.name + "' image is " + std::to_string(image.cols) + "x" +
+                                  std::to_string(image.rows) + " (type " + std::to_string(image.type()) +
+                                  "); its calibration is for " + std::to_string(cam.width) + "x" +
+                                  std::to_string(cam.height) + " 8-bit grey or BGR");
+    }
+    CameraSetup& s = *cameras_[c];
+    const auto t_cam = input.stamps.empty() ? cloud.stamp : input.stamps[c];
+    const Pose motion_fix = sync ? motion->relative(t_cam, cloud.stamp) : Pose::Identity();
+    const Affine3f T_cam_cloud = to_float(rig.camera_pose(base, c).inverse() * motion_fix * *T_base_cloud);
+    std::visit(
+        [&](const auto& model) {
+          project_all(model, T_cam_cloud, x_.data(), y_.data(), z_.data(), n, float(cam.width - 1), float(cam.height - 1),
+                      u_.data(), v_.data(), range_.data(), valid_.data());
+        },
+        cam.model);
+
+    // The usable region (mask, lens) and the depth buffer of what this camera sees.
+    const float cell = options.occlusion ? std::max(1.0f, float(s.px_per_rad * options.occlusion_cell_deg * M_PI / 180)) : 1.f;
+    const float inv_cell = 1.f / cell;
+    // The buffer reaches `reach` cells past the image on every side, so that a surface just
+    // outside the picture still covers what lies behind it at the picture's edge.
+    const int reach = std::max(1, int(std::lround(options.occlusion_reach_deg / options.occlusion_cell_deg)));
+    const float offset = static_cast<float>(reach);
+    if (options.occlusion) {
+      depth_.create(static_cast<int>(cam.height * inv_cell) + 1 + 2 * reach, static_cast<int>(cam.width * inv_cell) + 1 + 2 * reach,
+                    CV_32F);
+      depth_.setTo(kFar);
+    }
+    const float cols = static_cast<float>(depth_.cols), rows = static_cast<float>(depth_.rows);
+    for (size_t i = 0; i < n; ++i) {
+      if (!valid_[i]) continue;
+      if ((valid_[i] & 1) && s.usable.at<uint8_t>(static_cast<int>(v_[i] + 0.5f), static_cast<int>(u_[i] + 0.5f)) == 0) {
+        valid_[i] &= 2;  // masked out or past the lens' field: no colour, but still a surface
+      }
+      if (options.occlusion) {
+        const float cx = u_[i] * inv_cell + offset, cy = v_[i] * inv_cell + offset;
+        if (cx >= 0.f && cy >= 0.f && cx < cols && cy < rows) {
+          float& d = depth_.at<float>(static_cast<int>(cy), static_cast<int>(cx));
+          d = std::min(d, range_[i]);
+        }
+      }
+    }
+    if (options.occlusion) occluding_depth(depth_, reach, up_, down_, left_, right_, occluder_);
+    if (blend && s.feather_px != options.feather_px) {
+      s.feather = feather_weights(cam, options.feather_px);
+      s.feather_px = options.feather_px;
+    }
+    const float rel = 1.f + options.occlusion_tolerance_rel, abs_tol = options.occlusion_tolerance_m;
+    const uint8_t cam_index = static_cast<uint8_t>(c);
+    for (size_t i = 0; i < n; ++i) {
+      if (!(valid_[i] & 1) || (cloud.flags[i] & cloud_flags::kSelf)) continue;
+      if (options.occlusion) {
+        const float nearest =
+            occluder_.at<float>(static_cast<int>(v_[i] * inv_cell + offset), static_cast<int>(u_[i] * inv_cell + offset));
+        if (range_[i] > nearest * rel + abs_tol) {
+          hidden_[i] = 1;
+          continue;
+        }
+      }
+      if (blend) {
+        const float w = s.feather.at<float>(static_cast<int>(v_[i] + 0.5f), static_cast<int>(u_[i] + 0.5f));
+        if (w <= 0) continue;
+        float rgb[3];
+        sample(image, u_[i], v_[i], rgb);
+        sum_w_[i] += w;
+        sum_r_[i] += w * rgb[0];
+        sum_g_[i] += w * rgb[1];
+        sum_b_[i] += w * rgb[2];
+        if (w > best_w_[i]) {
+          best_w_[i] = w;
+          best_cam_[i] = cam_index;
+        }
+      } else {
+        const float du = u_[i] - s.cx, dv = v_[i] - s.cy;
+        const float score = (du * du + dv * dv) * s.inv_half_diag2;
+        if (score < best_score_[i]) {
+          best_score_[i] = score;
+          best_cam_[i] = cam_index;
+          best_u_[i] = u_[i];
+          best_v_[i] = v_[i];
+        }
+      }
+    }
+  }
+
+  ColourStats stats;
+  stats.points = n;
+  for (size_t i = 0; i < n; ++i) {
+    if (cloud.flags[i] & cloud_flags::kSelf) {
+      ++stats.self_filtered;
+      continue;
+    }
+    const uint8_t c = best_cam_[i];
+    if (c == kNoCamera) {
+      if (hidden_[i]) {
+        cloud.flags[i] |= cloud_flags::kOccluded;
+        ++stats.occluded;
+      } else {
+        ++stats.unseen;
+      }
+      continue;
+    }
+    float rgb[3];
+    if (blend) {
+      const float inv = 1.f / sum_w_[i];
+      rgb[0] = sum_r_[i] * inv;
+      rgb[1] = sum_g_[i] * inv;
+      rgb[2] = sum_b_[i] * inv;
+    } else {
+      sample(input.images[c], best_u_[i], best_v_[i], rgb);
+    }
+    cloud.rgb[i] = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
+    cloud.camera[i] = c;
+    cloud.flags[i] |= cloud_flags::kColoured;
+    ++stats.coloured;
+  }
+  return stats;
+}
+
+}  // namespace omniview
