@@ -7,6 +7,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/map/multiversion.h"
 #include "core/map/usable_region.h"
 
 namespace omniview {
@@ -18,6 +19,16 @@ struct CloudColourer::CameraSetup {
   float cell_px = 1;  // depth buffer cell
   double px_per_rad = 1;
   float cx = 0, cy = 0, inv_half_diag2 = 1;
+  bool all_usable = false;  // no mask, no lens limit: every pixel of the image may colour
+};
+
+// One camera's projections of the current cloud and its depth buffer.
+struct CloudColourer::CameraPass {
+  bool active = false;
+  std::vector<float> u, v, range;
+  std::vector<uint8_t> valid;  // bit 1: the model images the point; bit 0: a usable pixel too
+  float inv_cell = 1, offset = 0;
+  cv::Mat depth, up, down, left, right, occluder;
 };
 
 namespace {
@@ -31,8 +42,10 @@ Affine3f to_float(const Pose& T) { return T.matrix().topRows<3>().cast<float>();
 // Projects every point with one camera's model: the variant is visited once, and this
 // loop is specialised per model, so the projection inlines and GCC vectorises it.
 template <typename Model>
-void project_all(const Model& model, const Affine3f& T, const float* x, const float* y, const float* z, size_t n,
-                 float max_u, float max_v, float* u, float* v, float* range, uint8_t* ok) {
+[[gnu::always_inline]] inline void project_all(const Model& model, const Affine3f& T, const float* __restrict x,
+                                               const float* __restrict y, const float* __restrict z, size_t n, float max_u,
+                                               float max_v, float* __restrict u, float* __restrict v,
+                                               float* __restrict range, uint8_t* __restrict ok) {
   const float r00 = T(0, 0), r01 = T(0, 1), r02 = T(0, 2), t0 = T(0, 3);
   const float r10 = T(1, 0), r11 = T(1, 1), r12 = T(1, 2), t1 = T(1, 3);
   const float r20 = T(2, 0), r21 = T(2, 1), r22 = T(2, 2), t2 = T(2, 3);
@@ -53,8 +66,15 @@ void project_all(const Model& model, const Affine3f& T, const float* x, const fl
   }
 }
 
+// One camera's projections, compiled for baseline x86-64 and for AVX2 (picked at load).
+OMNIVIEW_MULTIVERSION
+void project_camera(const CameraModel& camera_model, const Affine3f& T, const float* x, const float* y, const float* z, size_t n,
+                    float max_u, float max_v, float* u, float* v, float* range, uint8_t* ok) {
+  std::visit([&](const auto& model) { project_all(model, T, x, y, z, n, max_u, max_v, u, v, range, ok); }, camera_model);
+}
+
 // Bilinear sample at (u, v) inside [0, W-1] x [0, H-1]; R, G, B out.
-inline void sample(const cv::Mat& image, float u, float v, float rgb[3]) {
+[[gnu::always_inline]] inline void sample(const cv::Mat& image, float u, float v, float rgb[3]) {
   const int x0 = static_cast<int>(u), y0 = static_cast<int>(v);
   const int x1 = std::min(x0 + 1, image.cols - 1), y1 = std::min(y0 + 1, image.rows - 1);
   const float ax = u - x0, ay = v - y0;
@@ -104,6 +124,7 @@ CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(ri
   for (const auto& cam : rig_->cameras()) {
     auto s = std::make_shared<CameraSetup>();
     s->usable = usable_region(cam);
+    s->all_usable = static_cast<size_t>(cv::countNonZero(s->usable)) == s->usable.total();
     s->cx = static_cast<float>((cam.width - 1) / 2.0);
     s->cy = static_cast<float>((cam.height - 1) / 2.0);
     s->inv_half_diag2 = 4.0f / static_cast<float>(cam.width * cam.width + cam.height * cam.height);
@@ -118,6 +139,8 @@ CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(ri
     cameras_.push_back(std::move(s));
   }
 }
+
+CloudColourer::~CloudColourer() = default;
 
 ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
                                   const Trajectory* motion) {
@@ -179,150 +202,157 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
     }
   }
 
-  // Outputs and per-point fusion state.
+  // Outputs.
   if (cloud.rgb.empty()) cloud.rgb.assign(n, {0, 0, 0});
   if (cloud.flags.empty()) cloud.flags.assign(n, 0);
   cloud.camera.assign(n, kNoCamera);
   for (auto& f : cloud.flags) f &= static_cast<uint8_t>(~(cloud_flags::kColoured | cloud_flags::kOccluded));
   const bool blend = options.fusion == Fusion::kBlend;
-  best_cam_.assign(n, kNoCamera);
-  hidden_.assign(n, 0);
-  if (blend) {
-    sum_w_.assign(n, 0.f);
-    sum_r_.assign(n, 0.f);
-    sum_g_.assign(n, 0.f);
-    sum_b_.assign(n, 0.f);
-    best_w_.assign(n, 0.f);
-  } else {
-    best_score_.assign(n, std::numeric_limits<float>::max());
-    best_u_.resize(n);
-    best_v_.resize(n);
-  }
-  u_.resize(n);
-  v_.resize(n);
-  range_.resize(n);
-  valid_.resize(n);
 
+  // Checks before any work, so that a bad image throws before threads start.
   for (size_t c = 0; c < n_cams; ++c) {
     const cv::Mat& image = input.images[c];
-    if (image.empty()) continue;
     const Camera& cam = rig.cameras()[c];
-    if (image.cols != cam.width || image.rows != cam.height || (image.type() != CV_8UC1 && image.type() != CV_8UC3)) {
+    if (!image.empty() &&
+        (image.cols != cam.width || image.rows != cam.height || (image.type() != CV_8UC1 && image.type() != CV_8UC3))) {
       throw std::invalid_argument("colouring: camera '" + cam.name + "' image is " + std::to_string(image.cols) + "x" +
                                   std::to_string(image.rows) + " (type " + std::to_string(image.type()) +
                                   "); its calibration is for " + std::to_string(cam.width) + "x" +
                                   std::to_string(cam.height) + " 8-bit grey or BGR");
     }
-    CameraSetup& s = *cameras_[c];
-    const auto t_cam = input.stamps.empty() ? cloud.stamp : input.stamps[c];
-    const Pose motion_fix = sync ? motion->relative(t_cam, cloud.stamp) : Pose::Identity();
-    const Affine3f T_cam_cloud = to_float(rig.camera_pose(base, c).inverse() * motion_fix * *T_base_cloud);
-    std::visit(
-        [&](const auto& model) {
-          project_all(model, T_cam_cloud, x_.data(), y_.data(), z_.data(), n, float(cam.width - 1), float(cam.height - 1),
-                      u_.data(), v_.data(), range_.data(), valid_.data());
-        },
-        cam.model);
-
-    // The usable region (mask, lens) and the depth buffer of what this camera sees.
-    const float cell = options.occlusion ? std::max(1.0f, float(s.px_per_rad * options.occlusion_cell_deg * M_PI / 180)) : 1.f;
-    const float inv_cell = 1.f / cell;
-    // The buffer reaches `reach` cells past the image on every side, so that a surface just
-    // outside the picture still covers what lies behind it at the picture's edge.
-    const int reach = std::max(1, int(std::lround(options.occlusion_reach_deg / options.occlusion_cell_deg)));
-    const float offset = static_cast<float>(reach);
-    if (options.occlusion) {
-      depth_.create(static_cast<int>(cam.height * inv_cell) + 1 + 2 * reach, static_cast<int>(cam.width * inv_cell) + 1 + 2 * reach,
-                    CV_32F);
-      depth_.setTo(kFar);
-    }
-    const float cols = static_cast<float>(depth_.cols), rows = static_cast<float>(depth_.rows);
-    for (size_t i = 0; i < n; ++i) {
-      if (!valid_[i]) continue;
-      if ((valid_[i] & 1) && s.usable.at<uint8_t>(static_cast<int>(v_[i] + 0.5f), static_cast<int>(u_[i] + 0.5f)) == 0) {
-        valid_[i] &= 2;  // masked out or past the lens' field: no colour, but still a surface
-      }
-      if (options.occlusion) {
-        const float cx = u_[i] * inv_cell + offset, cy = v_[i] * inv_cell + offset;
-        if (cx >= 0.f && cy >= 0.f && cx < cols && cy < rows) {
-          float& d = depth_.at<float>(static_cast<int>(cy), static_cast<int>(cx));
-          d = std::min(d, range_[i]);
-        }
-      }
-    }
-    if (options.occlusion) occluding_depth(depth_, reach, up_, down_, left_, right_, occluder_);
-    if (blend && s.feather_px != options.feather_px) {
-      s.feather = feather_weights(cam, options.feather_px);
-      s.feather_px = options.feather_px;
-    }
-    const float rel = 1.f + options.occlusion_tolerance_rel, abs_tol = options.occlusion_tolerance_m;
-    const uint8_t cam_index = static_cast<uint8_t>(c);
-    for (size_t i = 0; i < n; ++i) {
-      if (!(valid_[i] & 1) || (cloud.flags[i] & cloud_flags::kSelf)) continue;
-      if (options.occlusion) {
-        const float nearest =
-            occluder_.at<float>(static_cast<int>(v_[i] * inv_cell + offset), static_cast<int>(u_[i] * inv_cell + offset));
-        if (range_[i] > nearest * rel + abs_tol) {
-          hidden_[i] = 1;
-          continue;
-        }
-      }
-      if (blend) {
-        const float w = s.feather.at<float>(static_cast<int>(v_[i] + 0.5f), static_cast<int>(u_[i] + 0.5f));
-        if (w <= 0) continue;
-        float rgb[3];
-        sample(image, u_[i], v_[i], rgb);
-        sum_w_[i] += w;
-        sum_r_[i] += w * rgb[0];
-        sum_g_[i] += w * rgb[1];
-        sum_b_[i] += w * rgb[2];
-        if (w > best_w_[i]) {
-          best_w_[i] = w;
-          best_cam_[i] = cam_index;
-        }
-      } else {
-        const float du = u_[i] - s.cx, dv = v_[i] - s.cy;
-        const float score = (du * du + dv * dv) * s.inv_half_diag2;
-        if (score < best_score_[i]) {
-          best_score_[i] = score;
-          best_cam_[i] = cam_index;
-          best_u_[i] = u_[i];
-          best_v_[i] = v_[i];
-        }
-      }
-    }
   }
+
+  // Phase 1, one camera per task: project every point, splat the depth buffer and find
+  // what covers each cell.
+  passes_.resize(n_cams);
+  cv::parallel_for_(cv::Range(0, static_cast<int>(n_cams)), [&](const cv::Range& range) {
+    for (int ci = range.start; ci < range.end; ++ci) {
+      const size_t c = static_cast<size_t>(ci);
+      CameraPass& pass = passes_[c];
+      pass.active = !input.images[c].empty();
+      if (!pass.active) continue;
+      const Camera& cam = rig.cameras()[c];
+      CameraSetup& s = *cameras_[c];
+      const auto t_cam = input.stamps.empty() ? cloud.stamp : input.stamps[c];
+      const Pose motion_fix = sync ? motion->relative(t_cam, cloud.stamp) : Pose::Identity();
+      const Affine3f T_cam_cloud = to_float(rig.camera_pose(base, c).inverse() * motion_fix * *T_base_cloud);
+      pass.u.resize(n);
+      pass.v.resize(n);
+      pass.range.resize(n);
+      pass.valid.resize(n);
+      project_camera(cam.model, T_cam_cloud, x_.data(), y_.data(), z_.data(), n, float(cam.width - 1), float(cam.height - 1),
+                     pass.u.data(), pass.v.data(), pass.range.data(), pass.valid.data());
+      const float cell = std::max(1.0f, float(s.px_per_rad * options.occlusion_cell_deg * M_PI / 180));
+      pass.inv_cell = 1.f / cell;
+      // The buffer reaches `reach` cells past the image on every side, so that a surface just
+      // outside the picture still covers what lies behind it at the picture's edge.
+      const int reach = std::max(1, int(std::lround(options.occlusion_reach_deg / options.occlusion_cell_deg)));
+      pass.offset = static_cast<float>(reach);
+      if (options.occlusion) {
+        pass.depth.create(static_cast<int>(cam.height * pass.inv_cell) + 1 + 2 * reach,
+                          static_cast<int>(cam.width * pass.inv_cell) + 1 + 2 * reach, CV_32F);
+        pass.depth.setTo(kFar);
+      }
+      const float cols = static_cast<float>(pass.depth.cols), rows = static_cast<float>(pass.depth.rows);
+      uint8_t* valid = pass.valid.data();
+      const float* u = pass.u.data();
+      const float* v = pass.v.data();
+      for (size_t i = 0; i < n; ++i) {
+        if (!valid[i]) continue;
+        if (!s.all_usable && (valid[i] & 1) &&
+            s.usable.at<uint8_t>(static_cast<int>(v[i] + 0.5f), static_cast<int>(u[i] + 0.5f)) == 0) {
+          valid[i] &= 2;  // masked out or past the lens' field: no colour, but still a surface
+        }
+        if (options.occlusion) {
+          const float cx = u[i] * pass.inv_cell + pass.offset, cy = v[i] * pass.inv_cell + pass.offset;
+          if (cx >= 0.f && cy >= 0.f && cx < cols && cy < rows) {
+            float& d = pass.depth.at<float>(static_cast<int>(cy), static_cast<int>(cx));
+            d = std::min(d, pass.range[i]);
+          }
+        }
+      }
+      if (options.occlusion) occluding_depth(pass.depth, reach, pass.up, pass.down, pass.left, pass.right, pass.occluder);
+      if (blend && s.feather_px != options.feather_px) {
+        s.feather = feather_weights(cam, options.feather_px);
+        s.feather_px = options.feather_px;
+      }
+    }
+  });
+
+  // Phase 2, points in chunks: pick (or blend) the cameras that see each point unhidden.
+  const float rel = 1.f + options.occlusion_tolerance_rel, abs_tol = options.occlusion_tolerance_m;
+  cv::parallel_for_(cv::Range(0, static_cast<int>((n + 4095) / 4096)), [&](const cv::Range& chunks) {
+    const size_t begin = static_cast<size_t>(chunks.start) * 4096, end = std::min(n, static_cast<size_t>(chunks.end) * 4096);
+    for (size_t i = begin; i < end; ++i) {
+      uint8_t& flags = cloud.flags[i];
+      if (flags & cloud_flags::kSelf) continue;
+      bool hidden = false;
+      uint8_t best_cam = kNoCamera;
+      float best = std::numeric_limits<float>::max(), best_u = 0, best_v = 0;
+      float sum_w = 0, sum[3] = {0, 0, 0};
+      for (size_t c = 0; c < n_cams; ++c) {
+        const CameraPass& pass = passes_[c];
+        if (!pass.active || !(pass.valid[i] & 1)) continue;
+        const float u = pass.u[i], v = pass.v[i];
+        if (options.occlusion) {
+          const float nearest = pass.occluder.at<float>(static_cast<int>(v * pass.inv_cell + pass.offset),
+                                                        static_cast<int>(u * pass.inv_cell + pass.offset));
+          if (pass.range[i] > nearest * rel + abs_tol) {
+            hidden = true;
+            continue;
+          }
+        }
+        const CameraSetup& s = *cameras_[c];
+        if (blend) {
+          const float w = s.feather.at<float>(static_cast<int>(v + 0.5f), static_cast<int>(u + 0.5f));
+          if (w <= 0) continue;
+          float rgb[3];
+          sample(input.images[c], u, v, rgb);
+          sum_w += w;
+          for (int k = 0; k < 3; ++k) sum[k] += w * rgb[k];
+          if (-w < best) {  // blending: `best` holds minus the heaviest weight
+            best = -w;
+            best_cam = static_cast<uint8_t>(c);
+          }
+        } else {
+          const float du = u - s.cx, dv = v - s.cy;
+          const float score = (du * du + dv * dv) * s.inv_half_diag2;
+          if (score < best) {
+            best = score;
+            best_cam = static_cast<uint8_t>(c);
+            best_u = u;
+            best_v = v;
+          }
+        }
+      }
+      if (best_cam == kNoCamera) {
+        if (hidden) flags |= cloud_flags::kOccluded;
+        continue;
+      }
+      float rgb[3];
+      if (blend) {
+        for (int k = 0; k < 3; ++k) rgb[k] = sum[k] / sum_w;
+      } else {
+        sample(input.images[best_cam], best_u, best_v, rgb);
+      }
+      cloud.rgb[i] = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
+      cloud.camera[i] = best_cam;
+      flags |= cloud_flags::kColoured;
+    }
+  });
 
   ColourStats stats;
   stats.points = n;
-  for (size_t i = 0; i < n; ++i) {
-    if (cloud.flags[i] & cloud_flags::kSelf) {
+  for (const uint8_t f : cloud.flags) {
+    if (f & cloud_flags::kSelf) {
       ++stats.self_filtered;
-      continue;
-    }
-    const uint8_t c = best_cam_[i];
-    if (c == kNoCamera) {
-      if (hidden_[i]) {
-        cloud.flags[i] |= cloud_flags::kOccluded;
-        ++stats.occluded;
-      } else {
-        ++stats.unseen;
-      }
-      continue;
-    }
-    float rgb[3];
-    if (blend) {
-      const float inv = 1.f / sum_w_[i];
-      rgb[0] = sum_r_[i] * inv;
-      rgb[1] = sum_g_[i] * inv;
-      rgb[2] = sum_b_[i] * inv;
+    } else if (f & cloud_flags::kColoured) {
+      ++stats.coloured;
+    } else if (f & cloud_flags::kOccluded) {
+      ++stats.occluded;
     } else {
-      sample(input.images[c], best_u_[i], best_v_[i], rgb);
+      ++stats.unseen;
     }
-    cloud.rgb[i] = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
-    cloud.camera[i] = c;
-    cloud.flags[i] |= cloud_flags::kColoured;
-    ++stats.coloured;
   }
   return stats;
 }

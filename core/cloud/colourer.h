@@ -80,6 +80,9 @@ class CloudColourer {
   // Precomputes each camera's usable region (and feather weights when blending) for `rig`;
   // make a new colourer when the rig changes.
   explicit CloudColourer(std::shared_ptr<const Rig> rig);
+  ~CloudColourer();
+  CloudColourer(const CloudColourer&) = delete;
+  CloudColourer& operator=(const CloudColourer&) = delete;
 
   // Colours `cloud` in place (rgb, flags, camera). The cloud's frame must be connected to
   // the rig's frames; `motion` (optional) gives the rig's default frame in a fixed frame
@@ -94,13 +97,10 @@ class CloudColourer {
   struct CameraSetup;
   std::shared_ptr<const Rig> rig_;
   std::vector<std::shared_ptr<CameraSetup>> cameras_;
+  struct CameraPass;
   // Scratch, reused between calls.
-  std::vector<float> x_, y_, z_;           // points at the cloud's stamp, in the cloud frame
-  std::vector<float> u_, v_, range_;       // one camera's projections
-  std::vector<uint8_t> valid_;
-  std::vector<float> best_score_, best_u_, best_v_, sum_w_, sum_r_, sum_g_, sum_b_, best_w_;
-  std::vector<uint8_t> best_cam_, hidden_;
-  cv::Mat depth_, up_, down_, left_, right_, occluder_;
+  std::vector<float> x_, y_, z_;  // points at the cloud's stamp, in the cloud frame
+  std::vector<CameraPass> passes_;
 };
 
 }  // namespace omniview
