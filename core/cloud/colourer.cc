@@ -70,7 +70,16 @@ template <typename Model>
 OMNIVIEW_MULTIVERSION
 void project_camera(const CameraModel& camera_model, const Affine3f& T, const float* x, const float* y, const float* z, size_t n,
                     float max_u, float max_v, float* u, float* v, float* range, uint8_t* ok) {
-  std::visit([&](const auto& model) { project_all(model, T, x, y, z, n, max_u, max_v, u, v, range, ok); }, camera_model);
+  // get_if rather than std::visit: the loop must inline into each clone of this function.
+  auto run = [&](const auto* model) {
+    if (model) project_all(*model, T, x, y, z, n, max_u, max_v, u, v, range, ok);
+  };
+  run(std::get_if<PinholeRadtan>(&camera_model));
+  run(std::get_if<Equidistant>(&camera_model));
+  run(std::get_if<Fov>(&camera_model));
+  run(std::get_if<OmniRadtan>(&camera_model));
+  run(std::get_if<DoubleSphere>(&camera_model));
+  run(std::get_if<Eucm>(&camera_model));
 }
 
 // Bilinear sample at (u, v) inside [0, W-1] x [0, H-1]; R, G, B out.
