@@ -105,19 +105,28 @@ void project_camera(const CameraModel& camera_model, const Affine3f& T, const fl
 // The depth of a surface in front of each cell, from the cloud's own points splatted into
 // `depth` (nearest per cell): a cell is covered when nearer samples lie on both sides of it
 // within `reach` cells, vertically or horizontally (the gap between two of a lidar's rings
-// on a near surface), or in the cell itself. Requiring both sides keeps a surface seen at a
-// grazing angle from hiding itself: there the nearer ring is on one side only.
+// on a near surface). Requiring both sides, and leaving the cell itself out, keeps a
+// surface seen at a grazing angle from hiding itself: there the nearer ring lies on one
+// side only, or shares the cell.
 void occluding_depth(const cv::Mat& depth, int reach, cv::Mat& up, cv::Mat& down, cv::Mat& left, cv::Mat& right,
                      cv::Mat& out) {
   const cv::Scalar far(kFar);
-  cv::erode(depth, up, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, reach + 1)), cv::Point(0, reach), 1,
-            cv::BORDER_CONSTANT, far);
-  cv::erode(depth, down, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, reach + 1)), cv::Point(0, 0), 1,
-            cv::BORDER_CONSTANT, far);
-  cv::erode(depth, left, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(reach + 1, 1)), cv::Point(reach, 0), 1,
-            cv::BORDER_CONSTANT, far);
-  cv::erode(depth, right, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(reach + 1, 1)), cv::Point(0, 0), 1,
-            cv::BORDER_CONSTANT, far);
+  const int rows = depth.rows, cols = depth.cols;
+  cv::Mat window;
+  // Windows that end (or start) at the cell, then moved one cell on so the cell is out.
+  auto shifted = [&](const cv::Mat& kernel, cv::Point anchor, int dy, int dx, cv::Mat& dst) {
+    cv::erode(depth, window, kernel, anchor, 1, cv::BORDER_CONSTANT, far);
+    dst.create(rows, cols, CV_32F);
+    dst.setTo(far);
+    const cv::Rect from(std::max(0, -dx), std::max(0, -dy), cols - std::abs(dx), rows - std::abs(dy));
+    const cv::Rect to(std::max(0, dx), std::max(0, dy), from.width, from.height);
+    window(from).copyTo(dst(to));
+  };
+  const cv::Mat column = cv::Mat::ones(reach, 1, CV_8U), row = cv::Mat::ones(1, reach, CV_8U);
+  shifted(column, cv::Point(0, reach - 1), 1, 0, up);     // rows y-reach .. y-1
+  shifted(column, cv::Point(0, 0), -1, 0, down);          // rows y+1 .. y+reach
+  shifted(row, cv::Point(reach - 1, 0), 0, 1, left);      // columns x-reach .. x-1
+  shifted(row, cv::Point(0, 0), 0, -1, right);            // columns x+1 .. x+reach
   cv::max(up, down, up);
   cv::max(left, right, left);
   cv::min(up, left, out);
