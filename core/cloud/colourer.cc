@@ -197,7 +197,9 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
       }
     }
     if (t_min > t_max) t_min = t_max = 0;
-    const size_t bins = std::min<size_t>(100000, static_cast<size_t>((double(t_max) - t_min) / bin) + 1);
+    // At most 100 k corrections (200 s of 2 ms bins); clamped in double, before converting.
+    const double span_bins = (double(t_max) - t_min) / bin;
+    const size_t bins = span_bins >= 99999 ? 100000 : static_cast<size_t>(span_bins) + 1;
     std::vector<Affine3f> corrections(bins);
     for (size_t k = 0; k < bins; ++k) {
       const auto t = cloud.stamp + std::chrono::duration_cast<std::chrono::system_clock::duration>(
@@ -206,7 +208,7 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
     }
     for (size_t i = 0; i < n; ++i) {
       const float t = std::isfinite(cloud.time[i]) ? cloud.time[i] : t_min;
-      const size_t k = std::min(bins - 1, static_cast<size_t>(std::max(0.0, (double(t) - t_min) / bin)));
+      const size_t k = static_cast<size_t>(std::clamp((double(t) - t_min) / bin, 0.0, double(bins - 1)));
       const Eigen::Vector3f p = corrections[k] * cloud.points[i].homogeneous();
       x_[i] = p.x();
       y_[i] = p.y();

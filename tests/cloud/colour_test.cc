@@ -3,6 +3,7 @@
 // and wrong without, grey cameras give grey, and the robot's legs are filtered out.
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -227,6 +228,27 @@ TEST(Colour, SelfFilterDropsTheLegs) {
   const auto stats = colourer.colour(cloud, CameraImages{plain_room_images(*s.rig), {}}, ColourOptions{});
   EXPECT_EQ(stats.self_filtered, marked);
   for (size_t i = room_points; i < cloud.size(); ++i) EXPECT_FALSE(cloud.flags[i] & cloud_flags::kColoured);
+}
+
+TEST(Colour, EmptyAndNonFinitePoints) {
+  StillScan s;
+  CloudColourer colourer(s.rig);
+  const CameraImages images{plain_room_images(*s.rig), {}};
+  PointCloud empty;
+  empty.frame = "lidar";
+  EXPECT_EQ(colourer.colour(empty, images, ColourOptions{}).points, 0u);
+  PointCloud odd;
+  odd.frame = "lidar";
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  odd.points = {{nan, 0, 0}, {inf, 1, 0}, {1e30f, -1e30f, 1e30f}, {0, 0, 0}, {2, 0, 0}};
+  odd.time = {nan, 0, inf, -1e30f, 0};
+  Trajectory still;
+  still.add(odd.stamp, Pose::Identity());
+  still.add(odd.stamp + std::chrono::seconds(1), Pose::Identity());
+  const auto stats = colourer.colour(odd, images, ColourOptions{}, &still);
+  EXPECT_EQ(stats.coloured + stats.unseen + stats.occluded, 5u);
+  EXPECT_FALSE(odd.flags[0] & cloud_flags::kColoured);
+  EXPECT_FALSE(odd.flags[1] & cloud_flags::kColoured);
 }
 
 TEST(Colour, ClearErrors) {
