@@ -1,10 +1,14 @@
 // PLY and PCD: round trips in every encoding, files as other tools write them, and clear
 // errors for malformed data.
 #include <chrono>
+#include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
