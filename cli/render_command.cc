@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "cli/args.h"
+#include "cli/rig_args.h"
 #include "core/io/yaml_reader.h"
 #include "core/map/apply.h"
 #include "core/map/fusion_map.h"
@@ -80,12 +81,6 @@ void list_view_types() {
                "     fusion (nearest | blend), feather_px\n";
 }
 
-std::string joined(const std::vector<std::string>& words, const std::string& separator = ", ") {
-  std::string out;
-  for (const auto& w : words) out += (out.empty() ? "" : separator) + w;
-  return out;
-}
-
 // ---- options ----
 
 void check_option_combinations(const Args& args) {
@@ -94,69 +89,6 @@ void check_option_combinations(const Args& args) {
   }
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional()[0] + "'");
   for (const char* needed : {"rig", "view", "out"}) args.required(needed);
-}
-
-// Whitespace- or comma-separated numbers, each one whole and finite.
-std::vector<double> parse_numbers(std::string text, const std::string& option) {
-  std::replace(text.begin(), text.end(), ',', ' ');
-  std::istringstream in(text);
-  std::vector<double> numbers;
-  for (std::string word; in >> word;) {
-    char* end = nullptr;
-    const double x = std::strtod(word.c_str(), &end);
-    if (end != word.c_str() + word.size() || !std::isfinite(x)) {
-      throw UsageError(option + ": '" + word + "' is not a number");
-    }
-    numbers.push_back(x);
-  }
-  return numbers;
-}
-
-// The forms of T_parent_cam in our rig YAML: xyz with ypr_deg, or with quat_xyzw.
-Pose parse_rig_pose(const std::string& text) {
-  const std::vector<double> v = parse_numbers(text, "--rig-pose");
-  const Vec3 xyz = v.size() >= 3 ? Vec3(v[0], v[1], v[2]) : Vec3::Zero();
-  if (v.size() == 6) {
-    constexpr double kDeg = M_PI / 180;
-    return make_pose(xyz, v[3] * kDeg, v[4] * kDeg, v[5] * kDeg);
-  }
-  if (v.size() == 7) {
-    const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
-    if (std::abs(q.norm() - 1) > 1e-3) {
-      throw UsageError("--rig-pose: the quaternion qx qy qz qw must have unit length, has " + std::to_string(q.norm()));
-    }
-    Pose T = Pose::Identity();
-    T.linear() = q.normalized().toRotationMatrix();
-    T.translation() = xyz;
-    return T;
-  }
-  throw UsageError("--rig-pose needs 6 numbers \"x y z yaw pitch roll\" (metres, degrees) or 7 numbers "
-                   "\"x y z qx qy qz qw\", got " + count_of(v.size(), "number", "numbers") + ": \"" + text + "\"");
-}
-
-// ---- the rig ----
-
-struct LoadedRig {
-  Rig rig;
-  bool camchain = false;
-};
-
-LoadedRig load_rig_from_args(const Args& args) {
-  const std::string path = args.required("rig");
-  const YamlReader reader = YamlReader::from_file(path);
-  if (is_kalibr_camchain(reader)) {
-    const Pose T_frame_cam0 = args.has("rig-pose") ? parse_rig_pose(args.get("rig-pose")) : Pose::Identity();
-    return {parse_kalibr_camchain(reader, args.get("rig-frame", "base_link"), T_frame_cam0), true};
-  }
-  // Our rig YAML poses every camera itself; silently ignoring these would mislead.
-  for (const std::string option : {"rig-frame", "rig-pose"}) {
-    if (args.has(option)) {
-      throw UsageError("--" + option + " applies only to kalibr camchains, but '" + path +
-                       "' is our rig YAML, which gives the rig's 'frame' and each camera's pose itself "
-                       "(T_parent_cam or mount)");
-    }
-  }
-  return {parse_rig_yaml(reader, fs::path(path).parent_path().string()), false};
 }
 
 // ---- the views ----
@@ -265,52 +197,6 @@ std::vector<std::string> output_paths(const std::string& out, const std::vector<
 }
 
 // ---- input images ----
-
-// cv::imread says neither "missing" nor "not an image"; we tell them apart.
-cv::Mat read_camera_image(const Camera& camera, const std::string& path) {
-  const std::string who = "camera '" + camera.name + "': ";
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw std::runtime_error(who + "image file '" + path + "' does not exist");
-  if (fs::is_directory(path, ec)) throw std::runtime_error(who + "'" + path + "' is a folder, not an image");
-  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) throw std::runtime_error(who + "'" + path + "' is not a decodable image");
-  if (img.depth() != CV_8U) throw std::runtime_error(who + "image '" + path + "' is not 8-bit");
-  if (img.channels() == 4) cv::cvtColor(img, img, cv::COLOR_BGRA2BGR);
-  if (img.channels() == 2) throw std::runtime_error(who + "image '" + path + "' has 2 channels");
-  if (img.cols != camera.width || img.rows != camera.height) {
-    throw std::runtime_error(who + "image '" + path + "' is " + std::to_string(img.cols) + "x" +
-                             std::to_string(img.rows) + ", but the camera is calibrated for " +
-                             std::to_string(camera.width) + "x" + std::to_string(camera.height));
-  }
-  return img;
-}
-
-size_t camera_index(const Rig& rig, const std::string& name, const std::string& item) {
-  for (size_t i = 0; i < rig.cameras().size(); ++i) {
-    if (rig.cameras()[i].name == name) return i;
-  }
-  std::vector<std::string> names;
-  for (const auto& c : rig.cameras()) names.push_back(c.name);
-  throw UsageError("--image " + item + ": the rig has no camera '" + name + "' (cameras: " + joined(names, " ") + ")");
-}
-
-// One image per camera index; empty where no --image names the camera.
-std::vector<cv::Mat> read_images(const Args& args, const Rig& rig) {
-  std::vector<cv::Mat> images(rig.cameras().size());
-  std::vector<std::string> paths(rig.cameras().size());
-  for (const auto& item : args.all("image")) {
-    const auto eq = item.find('=');
-    if (eq == std::string::npos) throw UsageError("--image needs CAM=PATH, got '" + item + "'");
-    const std::string name = item.substr(0, eq), path = item.substr(eq + 1);
-    const size_t index = camera_index(rig, name, item);
-    if (!paths[index].empty()) {
-      throw UsageError("--image " + name + " given twice ('" + paths[index] + "' and '" + path + "')");
-    }
-    paths[index] = path;
-    images[index] = read_camera_image(rig.cameras()[index], path);
-  }
-  return images;
-}
 
 int output_channels(const Args& args, const std::vector<cv::Mat>& images) {
   if (args.has("grey")) return 1;
