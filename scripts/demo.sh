@@ -21,7 +21,7 @@ esac
 bash scripts/install-deps.sh
 bash scripts/build.sh omniview omniviewd spot-mock
 
-omniviewd=./build/server/daemon/omniviewd
+omniviewd=./build/daemon/omniviewd
 omniview=./build/cli/omniview
 spot_mock=./build/spot_adapter/mock/spot-mock
 out=out/demo
