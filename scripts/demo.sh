@@ -101,6 +101,15 @@ step "20 frames of the front view, with their latencies"
 "$omniview" stream front --frames 20 -o "$out/front_stream"
 echo "frame index: $out/front_stream/frames.csv"
 
+step "an Insta360 Air's 360 deg panorama (config/insta360.yaml, playing its sample recording)"
+"$omniviewd" --config config/insta360.yaml --listen 127.0.0.1:50052 --ready-file "$out/air.ready" \
+  > "$out/omniviewd-air.log" 2>&1 &
+air_pid=$!
+pids+=($air_pid)
+wait_ready "omniviewd (Air)" "$air_pid" "$out/air.ready" "$out/omniviewd-air.log"
+"$omniview" snapshot panorama -o "$out/air_panorama.jpg" --server 127.0.0.1:50052
+kill -TERM "$air_pid" && wait "$air_pid" 2> /dev/null || true
+
 step "done"
 echo "Everything above is in $(pwd)/$out/"
 if [ "$keep_serving" = 0 ]; then exit 0; fi
