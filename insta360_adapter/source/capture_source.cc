@@ -63,8 +63,11 @@ void CaptureSource::set_camera_sampling(const std::vector<double>& spacing) {
   for (double s : spacing) {
     if (s > 0) finest = finest == 0 ? s : std::min(finest, s);
   }
+  // Nobody watching (all 0): keep the scale, so the next watcher of the same views does
+  // not wait for two map rebuilds.
+  if (finest == 0) return;
   std::lock_guard lock(mutex_);
-  sampling_scale_ = finest > 0 ? scale_for_spacing(finest * settings_.frame_size.width) : 1;
+  sampling_scale_ = scale_for_spacing(finest * settings_.frame_size.width);
 }
 
 SourceHealth CaptureSource::health() const {

@@ -400,8 +400,10 @@ void Pipeline::update_wanted_cameras(const std::string& source) {
     const auto sampling = camera_sampling(*state->map);
     for (size_t i = 0; i < spacing.size() && i < sampling.size(); ++i) take_finest(i, sampling[i]);
   }
-  ch->source().set_wanted_cameras(wanted);
+  // Sampling first: a source that starts decoding for a new watcher then decodes at the
+  // size the views need from its first frame.
   ch->source().set_camera_sampling(spacing);
+  ch->source().set_wanted_cameras(wanted);
 }
 
 // ---------------------------------------------------------------- rendering

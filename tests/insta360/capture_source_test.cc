@@ -186,6 +186,9 @@ TEST_F(AirSource, DctScalingFollowsWhatTheViewsNeed) {
   EXPECT_TRUE(f->encoded.empty()) << "the camera's JPEG is full size: not kept for a scaled rig";
   source->set_camera_sampling({5.0 / 3008, 0});
   ASSERT_TRUE(eventually([&] { return sink.last()->images[0].cols == 752; }));
+  source->set_camera_sampling({0, 0});  // nobody watching: the scale stays
+  ASSERT_TRUE(sink.wait_for_more(2));
+  EXPECT_EQ(sink.last()->images[0].cols, 752);
   source->set_camera_sampling({1.0 / 3008, 2.5 / 3008});  // one view needs every pixel
   ASSERT_TRUE(eventually([&] { return sink.last()->images[0].cols == 3008; }));
   EXPECT_EQ(source->counters().decode_scale, 1);
