@@ -6,6 +6,7 @@
 
 #include <condition_variable>
 #include <cstdlib>
+#include <fstream>
 #include <mutex>
 
 #include "insta360_adapter/source/capture_config.h"
@@ -229,6 +230,51 @@ TEST_F(AirSource, ConfigErrorsNameTheKey) {
   const auto bad_device = YamlReader::from_string("name: usb\ntype: v4l2\ndevice: video0\ncalibration: x.yaml\n", "test.yaml");
   SourceConfig c2{"usb", &bad_device, bad_device.root(), "sources[0]", ""};
   EXPECT_THROW(read_capture_settings(c2, "v4l2"), ConfigError);
+}
+
+
+// `type: v4l2`: a plain USB webcam that offers only YUYV, with a kalibr calibration.
+TEST(V4l2Source, AYuyvWebcamWithAKalibrCalibration) {
+  const std::string folder = ::testing::TempDir();
+  std::ofstream(folder + "/camchain.yaml") << "cam0:\n  camera_model: pinhole\n  intrinsics: [50, 50, 31.5, 15.5]\n"
+                                              "  distortion_model: radtan\n  distortion_coeffs: [0, 0, 0, 0]\n"
+                                              "  resolution: [64, 32]\n";
+  auto cam = std::make_shared<testing::FakeAirState>();
+  cam->formats = {{kYuyv, 64, 32, {30}}, {kYuyv, 32, 16, {30}}};
+  cam->jpeg.assign(64 * 32 * 2, 0);
+  for (size_t i = 0; i < cam->jpeg.size(); i += 4) {  // Y U Y V: mid grey with a blue tint
+    cam->jpeg[i] = 128;
+    cam->jpeg[i + 1] = 160;
+    cam->jpeg[i + 2] = 128;
+    cam->jpeg[i + 3] = 128;
+  }
+  const auto reader = YamlReader::from_string("name: usb\ntype: v4l2\ncalibration: camchain.yaml\nmount: [0.2, 0, 0.5, 0, 0, 0]\n", "test.yaml");
+  SourceConfig config{"usb", &reader, reader.root(), "sources[0]", folder};
+  CaptureSource source("usb", read_capture_settings(config, "v4l2", testing::fake_air_opener(cam)));
+  Sink sink;
+  source.start(sink.callback());
+  ASSERT_TRUE(sink.wait_for_more(2));
+  const auto f = sink.last();
+  ASSERT_EQ(f->images.size(), 1u);
+  ASSERT_EQ(f->images[0].size(), cv::Size(64, 32));
+  const cv::Vec3b px = f->images[0].at<cv::Vec3b>(10, 10);
+  EXPECT_GT(px[0], px[2] + 20) << "U > 128 is blue, in BGR order";
+  EXPECT_EQ(f->rig->cameras()[0].name, "cam0");
+  // cam0 looks along the body's +x, and the body sits 0.2 m ahead of base_link.
+  const Pose T = f->rig->camera_pose("base_link", 0);
+  EXPECT_NEAR(T.translation().x(), 0.2, 1e-9);
+  EXPECT_NEAR((T.linear() * Eigen::Vector3d::UnitZ()).x(), 1, 1e-9);
+  source.stop();
+
+  // Asking for MJPEG the camera does not have: the status lists what it offers.
+  const auto mjpeg = YamlReader::from_string("name: usb\ntype: v4l2\ncalibration: camchain.yaml\nformat: {pixel_format: MJPG}\n", "test.yaml");
+  SourceConfig c2{"usb", &mjpeg, mjpeg.root(), "sources[0]", folder};
+  CaptureSource strict("usb", read_capture_settings(c2, "v4l2", testing::fake_air_opener(cam)));
+  strict.start(sink.callback());
+  ASSERT_TRUE(eventually([&] { return strict.health().message.find("offers no MJPG") != std::string::npos; }))
+      << strict.health().message;
+  EXPECT_NE(strict.health().message.find("YUYV 64x32 @ 30 fps"), std::string::npos) << strict.health().message;
+  strict.stop();
 }
 
 }  // namespace
