@@ -194,6 +194,11 @@ bool CaptureSource::deliver(const CapturedFrame& frame, uint32_t pixel_format, c
       return false;
     }
     try {
+      // A damaged header may claim any size: never allocate for one the stream cannot have.
+      const JpegHeader h = decoder_.header(frame.bytes.data(), frame.bytes.size());
+      if (h.width != settings_.frame_size.width || h.height != settings_.frame_size.height) {
+        throw DecodeError("a " + std::to_string(h.width) + "x" + std::to_string(h.height) + " frame");
+      }
       decoder_.decode_into(frame.bytes.data(), frame.bytes.size(), scale, image);
     } catch (const DecodeError&) {
       std::lock_guard lock(mutex_);

@@ -45,7 +45,7 @@ struct Sink {
     return frames.empty() ? nullptr : frames.back();
   }
   // Waits until `n` more frames than now arrived.
-  bool wait_for_more(size_t n, std::chrono::milliseconds timeout = 5s) {
+  bool wait_for_more(size_t n, std::chrono::milliseconds timeout = 15s) {
     std::unique_lock lock(mutex);
     const size_t target = frames.size() + n;
     return changed.wait_for(lock, timeout * time_scale(), [&] { return frames.size() >= target; });
@@ -53,7 +53,7 @@ struct Sink {
 };
 
 template <typename Pred>
-bool eventually(Pred&& pred, std::chrono::milliseconds timeout = 5s) {
+bool eventually(Pred&& pred, std::chrono::milliseconds timeout = 15s) {
   const auto deadline = Clock::now() + timeout * time_scale();
   while (Clock::now() < deadline) {
     if (pred()) return true;
@@ -90,7 +90,8 @@ class AirSource : public ::testing::Test {
 
 TEST_F(AirSource, BothLensesShareOneDecodedFrame) {
   make();
-  ASSERT_TRUE(sink.wait_for_more(3));
+  ASSERT_TRUE(sink.wait_for_more(3)) << "corrupt " << source->counters().corrupt_frames << ", sent " << air->sent
+                                     << ", message " << message();
   const auto f = sink.last();
   ASSERT_EQ(f->images.size(), 2u);
   EXPECT_EQ(f->images[0].size(), cv::Size(3008, 1504));
