@@ -278,5 +278,31 @@ TEST(V4l2Source, AYuyvWebcamWithAKalibrCalibration) {
   strict.stop();
 }
 
+// A unit's own kalibr camchain replaces the nominal calibration: cam0 is the left half and
+// sits where the nominal front lens does; cam1 follows from T_cn_cnm1.
+TEST(AirCalibration, AKalibrCamchainOverridesTheNominalOne) {
+  const std::string folder = ::testing::TempDir();
+  std::ofstream(folder + "/air_camchain.yaml")
+      << "cam0:\n  camera_model: pinhole\n  intrinsics: [402, 401, 755.0, 749.0]\n"
+         "  distortion_model: equidistant\n  distortion_coeffs: [0.01, 0, 0, 0]\n  resolution: [1504, 1504]\n"
+         "cam1:\n  camera_model: pinhole\n  intrinsics: [399, 399, 748.0, 752.0]\n"
+         "  distortion_model: equidistant\n  distortion_coeffs: [0.01, 0, 0, 0]\n  resolution: [1504, 1504]\n"
+         "  T_cn_cnm1:\n  - [-1, 0, 0, 0]\n  - [0, 1, 0, 0]\n  - [0, 0, -1, -0.024]\n  - [0, 0, 0, 1]\n";
+  const auto reader = YamlReader::from_string("name: air\ntype: insta360\ncalibration: air_camchain.yaml\n", "test.yaml");
+  SourceConfig config{"air", &reader, reader.root(), "sources[0]", folder};
+  auto air = std::make_shared<testing::FakeAirState>();
+  const CaptureSettings s = read_capture_settings(config, "insta360", testing::fake_air_opener(air));
+  ASSERT_EQ(s.crops.size(), 2u);
+  EXPECT_EQ(s.crops[0].camera, "cam0");
+  EXPECT_EQ(s.crops[1].rect, cv::Rect(1504, 0, 1504, 1504));
+  EXPECT_EQ(s.frame_size, cv::Size(3008, 1504));
+  const Rig nominal = default_air_calibration();
+  EXPECT_TRUE(s.calibration->camera_pose("insta360", 0).isApprox(nominal.camera_pose("insta360", 0)));
+  // cam1 looks the other way, 2.4 cm behind cam0's centre.
+  const Pose back = s.calibration->camera_pose("insta360", 1);
+  EXPECT_NEAR((back.linear() * Eigen::Vector3d::UnitZ()).x(), -1, 1e-9);
+  EXPECT_NEAR(back.translation().x(), -0.012, 1e-9);
+}
+
 }  // namespace
 }  // namespace omniview::insta360
