@@ -116,7 +116,7 @@ void CaptureSource::run(FrameCallback on_frame) {
         std::lock_guard lock(mutex_);
         last_lens_check_ = {};  // check the lenses on the first frame of every (re)connect
       }
-      stream(*device, got.pixel_format, on_frame);  // returns after a long stall, or when stopping
+      stream(*device, got, on_frame);  // returns after a long stall, or when stopping
       if (!thread_.running()) return;
       problem = device->name() + ": no frames for " +
                 std::to_string(settings_.reopen_after.count() / 1000.0).substr(0, 4) + " s; reopening";
@@ -140,7 +140,7 @@ void CaptureSource::run(FrameCallback on_frame) {
   }
 }
 
-void CaptureSource::stream(VideoDevice& device, uint32_t pixel_format, const FrameCallback& on_frame) {
+void CaptureSource::stream(VideoDevice& device, const CaptureFormat& format, const FrameCallback& on_frame) {
   CapturedFrame frame;
   auto last_frame = Clock::now();
   bool stalled = false;
@@ -162,11 +162,11 @@ void CaptureSource::stream(VideoDevice& device, uint32_t pixel_format, const Fra
       stalled = false;
       set_state(true, "");
     }
-    deliver(frame, pixel_format, on_frame);
+    deliver(frame, format, on_frame);
   }
 }
 
-bool CaptureSource::deliver(const CapturedFrame& frame, uint32_t pixel_format, const FrameCallback& on_frame) {
+bool CaptureSource::deliver(const CapturedFrame& frame, const CaptureFormat& format, const FrameCallback& on_frame) {
   bool any_wanted, check_lens;
   int scale;
   {
@@ -178,7 +178,7 @@ bool CaptureSource::deliver(const CapturedFrame& frame, uint32_t pixel_format, c
   }
   // Nobody watches and no check is due: the frame is not even decoded.
   if (!any_wanted && !check_lens) return false;
-  const bool is_jpeg = pixel_format != kYuyv;
+  const bool is_jpeg = format.pixel_format != kYuyv;
   cv::Mat image;
   if (frame.bytes.empty()) {
     std::lock_guard lock(mutex_);
@@ -207,15 +207,16 @@ bool CaptureSource::deliver(const CapturedFrame& frame, uint32_t pixel_format, c
       return false;
     }
   } else {
-    // YUYV: 2 bytes a pixel, rows of frame_size.width * 2 (UVC pads none).
+    // YUYV: 2 bytes a pixel, rows of the driver's bytes_per_line (padding allowed).
     const int w = settings_.frame_size.width, h = settings_.frame_size.height;
-    if (frame.bytes.size() < size_t(w) * h * 2) {
+    const size_t pitch = std::max<size_t>(size_t(w) * 2, size_t(std::max(0, format.bytes_per_line)));
+    if (frame.bytes.size() < pitch * (h - 1) + size_t(w) * 2) {
       std::lock_guard lock(mutex_);
       ++counters_.corrupt_frames;
       ++health_.errors;
       return false;
     }
-    const cv::Mat yuyv(h, w, CV_8UC2, const_cast<uint8_t*>(frame.bytes.data()));
+    const cv::Mat yuyv(h, w, CV_8UC2, const_cast<uint8_t*>(frame.bytes.data()), pitch);
     cv::cvtColor(yuyv, image, cv::COLOR_YUV2BGR_YUYV);
     scale = 1;
   }

@@ -72,8 +72,8 @@ class CaptureSource : public Source {
   void run(FrameCallback on_frame);
   // Streams from an opened device until stop(), a fault (throws DeviceError) or a long
   // stall (returns).
-  void stream(VideoDevice& device, uint32_t pixel_format, const FrameCallback& on_frame);
-  bool deliver(const CapturedFrame& frame, uint32_t pixel_format, const FrameCallback& on_frame);
+  void stream(VideoDevice& device, const CaptureFormat& format, const FrameCallback& on_frame);
+  bool deliver(const CapturedFrame& frame, const CaptureFormat& format, const FrameCallback& on_frame);
   std::shared_ptr<const Rig> rig_for_scale(int scale);
   void set_state(bool connected, const std::string& message);
   void count_error(const std::string& message);
