@@ -21,7 +21,7 @@ esac
 bash scripts/install-deps.sh
 bash scripts/build.sh omniview omniviewd spot-mock
 
-omniviewd=./build/server/daemon/omniviewd
+omniviewd=./build/daemon/omniviewd
 omniview=./build/cli/omniview
 spot_mock=./build/spot_adapter/mock/spot-mock
 out=out/demo
@@ -100,6 +100,15 @@ step "a virtual pan-tilt-zoom camera on the robot's body: create it, then point 
 step "20 frames of the front view, with their latencies"
 "$omniview" stream front --frames 20 -o "$out/front_stream"
 echo "frame index: $out/front_stream/frames.csv"
+
+step "an Insta360 Air's 360 deg panorama (config/insta360.yaml, playing its sample recording)"
+"$omniviewd" --config config/insta360.yaml --listen 127.0.0.1:50052 --ready-file "$out/air.ready" \
+  > "$out/omniviewd-air.log" 2>&1 &
+air_pid=$!
+pids+=($air_pid)
+wait_ready "omniviewd (Air)" "$air_pid" "$out/air.ready" "$out/omniviewd-air.log"
+"$omniview" snapshot panorama -o "$out/air_panorama.jpg" --server 127.0.0.1:50052
+kill -TERM "$air_pid" && wait "$air_pid" 2> /dev/null || true
 
 step "done"
 echo "Everything above is in $(pwd)/$out/"

@@ -11,6 +11,7 @@
 #include "core/map/apply.h"
 #include "core/view/view_yaml.h"
 #include "server/convert/convert.h"
+#include "server/pipeline/camera_sampling.h"
 #include "server/pipeline/frame_delivery.h"
 #include "server/pipeline/frame_encoder.h"
 
@@ -381,13 +382,27 @@ void Pipeline::update_wanted_cameras(const std::string& source) {
     std::lock_guard lock(views_mutex_);
     for (const auto& [_, v] : views_) views.push_back(v);
   }
+  // And how coarsely they sample each camera (the finest view decides; a recording
+  // keeps full resolution).
+  std::vector<double> spacing(wanted.size(), 0);
+  const auto take_finest = [&](size_t i, double s) {
+    if (s > 0) spacing[i] = spacing[i] == 0 ? s : std::min(spacing[i], s);
+  };
+  if (ch->tap_count() > 0) {
+    for (size_t i = 0; i < spacing.size(); ++i) take_finest(i, 1.0 / std::max(1, r->cameras()[i].width));
+  }
   for (const auto& v : views) {
     const auto state = v->state();
     if (state->spec.source != source || v->subscriber_count() == 0) continue;
     for (size_t i = 0; i < wanted.size() && i < state->map->camera_used.size(); ++i) {
       if (state->map->camera_used[i]) wanted[i] = true;
     }
+    const auto sampling = camera_sampling(*state->map);
+    for (size_t i = 0; i < spacing.size() && i < sampling.size(); ++i) take_finest(i, sampling[i]);
   }
+  // Sampling first: a source that starts decoding for a new watcher then decodes at the
+  // size the views need from its first frame.
+  ch->source().set_camera_sampling(spacing);
   ch->source().set_wanted_cameras(wanted);
 }
 

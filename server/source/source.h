@@ -41,6 +41,12 @@ class Source {
   // to fetch (a robot over Wi-Fi) should fetch only these, and nothing when none is set.
   virtual void set_wanted_cameras(const std::vector<bool>& wanted) { (void)wanted; }
 
+  // How coarsely the active views sample each rig camera (rig order): the typical distance
+  // between neighbouring view samples in that camera's image, as a fraction of the image's
+  // width; 0 for a camera no active view reads. A source that can deliver smaller images
+  // for less work (a JPEG decoder's DCT scaling) may use it.
+  virtual void set_camera_sampling(const std::vector<double>& spacing) { (void)spacing; }
+
   virtual SourceHealth health() const = 0;
 
  protected:

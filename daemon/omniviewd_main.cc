@@ -14,6 +14,7 @@
 #include "server/source/source_registry.h"
 #include "server/sources/builtin_sources.h"
 #include "spot_adapter/source/spot_source.h"
+#include "insta360_adapter/source/register_sources.h"
 
 namespace {
 
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
   keep_image_buffers_in_the_heap();
   omniview::register_builtin_sources();
   omniview::spot::register_spot_source();
+  omniview::insta360::register_insta360_sources();
   std::string config_file, listen, ready_file;
   bool check_only = false;
   for (int i = 1; i < argc; ++i) {
