@@ -98,8 +98,8 @@ TEST(RigToYaml, WritesLiveExtrinsicsFromTheFrameGraph) {
 }
 
 TEST(RigToYaml, BundledExampleRoundTrips) {
-  // tests/core has no source-dir definition; the example sits at a fixed place from here.
-  const auto example = std::filesystem::path(__FILE__).parent_path() / "../../config/examples/dual_fisheye/rig.yaml";
+  // Not __FILE__: ccache makes it relative to the source tree (CMakeLists.txt).
+  const auto example = std::filesystem::path(OMNIVIEW_SOURCE_DIR) / "config/examples/dual_fisheye/rig.yaml";
   const Rig rig = load_rig_yaml(example.string());
   const Rig back = parse_rig_yaml(YamlReader::from_string(rig_to_yaml(rig), "rig.yaml"), ".");
   ASSERT_EQ(back.cameras().size(), 2u);
