@@ -1,10 +1,14 @@
 #include "core/map/apply.h"
 
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 
 #include <opencv2/core.hpp>
 
+#include "core/map/apply_avx2.h"
 #include "core/map/multiversion.h"
 
 namespace omniview {
@@ -153,7 +157,39 @@ void apply_row_uniform_grey(const MapEntry* m, const Source* sources, int n, uin
   apply_row_uniform<1>(m, sources, n, out);
 }
 
+#ifdef OMNIVIEW_APPLY_AVX2
+// The AVX2 rows address every camera from one base pointer with 32-bit offsets: true if
+// the used images lie close enough together (they do when the allocator maps them near
+// each other, as glibc does; otherwise the portable rows run).
+bool make_gather_sources(const FusionMap& map, const std::vector<Source>& sources,
+                         apply_internal::GatherSources& g) {
+  if (sources.size() > 8) return false;
+  uintptr_t lo = UINTPTR_MAX, hi = 0;
+  for (size_t i = 0; i < sources.size(); ++i) {
+    if (!map.camera_used[i]) continue;
+    const auto start = reinterpret_cast<uintptr_t>(sources[i].data);
+    lo = std::min(lo, start);
+    hi = std::max(hi, start + sources[i].stride * static_cast<size_t>(map.camera_sizes[i].height));
+  }
+  if (hi == 0 || hi - lo >= (uintptr_t{1} << 31)) return false;
+  g.base = reinterpret_cast<const uint8_t*>(lo);
+  for (size_t i = 0; i < sources.size(); ++i) {
+    if (!map.camera_used[i]) continue;
+    g.delta[i] = static_cast<int32_t>(reinterpret_cast<uintptr_t>(sources[i].data) - lo);
+    g.stride[i] = static_cast<int32_t>(sources[i].stride);
+  }
+  return true;
+}
+#endif
+
+std::atomic<bool> g_simd_enabled{true};
+
 }  // namespace
+
+namespace apply_internal {
+void set_simd_enabled(bool enabled) { g_simd_enabled = enabled; }
+bool simd_enabled() { return g_simd_enabled; }
+}  // namespace apply_internal
 
 void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat& out, int out_channels) {
   if (out_channels != 1 && out_channels != 3) {
@@ -187,10 +223,30 @@ void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat
   }
   out.create(map.height, map.width, out_channels == 3 ? CV_8UC3 : CV_8UC1);
   const int w = map.width;
+#ifdef OMNIVIEW_APPLY_AVX2
+  static const bool avx2 = apply_internal::have_avx2();
+  apply_internal::GatherSources gather;
+  const bool use_avx2 = avx2 && apply_internal::simd_enabled() && uniform && make_gather_sources(map, sources, gather);
+#else
+  const bool use_avx2 = false;
+#endif
+  // A few stripes per thread: large enough that neighbours share no output cache line in
+  // the middle of their work, small enough to even out a loaded core.
+  const int stripes = std::min(map.height, 8 * std::max(1, cv::getNumThreads()));
   cv::parallel_for_(cv::Range(0, map.height), [&](const cv::Range& rows) {
     for (int row = rows.start; row < rows.end; ++row) {
       const size_t first = static_cast<size_t>(row) * w;
       uint8_t* dst = out.ptr<uint8_t>(row);
+#ifdef OMNIVIEW_APPLY_AVX2
+      if (use_avx2) {
+        if (out_channels == 3) {
+          apply_internal::apply_row_bgr_avx2(&map.primary[first], w, gather, dst);
+        } else {
+          apply_internal::apply_row_grey_avx2(&map.primary[first], w, gather, dst);
+        }
+        continue;
+      }
+#endif
       if (uniform && out_channels == 3) {
         apply_row_uniform_bgr(&map.primary[first], sources.data(), w, dst);
       } else if (uniform) {
@@ -199,7 +255,7 @@ void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat
         apply_row_general(map, first, sources.data(), w, out_channels, dst);
       }
     }
-  });
+  }, stripes);
 }
 
 }  // namespace omniview
