@@ -10,6 +10,7 @@ packages=(
   ccache libssl-dev openssl python3 python3-grpcio python3-protobuf
   libgtest-dev libgmock-dev libbenchmark-dev
   liburdfdom-dev liburdfdom-headers-dev libassimp-dev libosmesa6-dev
+  libturbojpeg0-dev
 )
 
 missing=()
