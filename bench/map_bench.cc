@@ -13,6 +13,7 @@
 #include "core/map/fusion_map.h"
 #include "core/rig/rig.h"
 #include "core/view/view.h"
+#include "reference_map.h"
 
 namespace omniview {
 namespace {
@@ -65,6 +66,14 @@ void BM_Apply(benchmark::State& state, ViewType type, int w, int h, int channels
   state.counters["Mpx/s"] = benchmark::Counter(double(w) * h, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The anchor for map builds: the paper's per-pixel method restated (reference_map.h),
+// single-threaded as the paper describes it.
+void BM_ReferenceMethod(benchmark::State& state, ViewType type, int w, int h) {
+  const auto view = View::create(table_view(type, w, h));
+  for (auto _ : state) benchmark::DoNotOptimize(bench::reference_map(example_rig(), *view));
+  state.counters["Mpx/s"] = benchmark::Counter(double(w) * h, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 // The anchor: the same 1024x512, 120 deg perspective output from the front lens alone,
 // the way an OpenCV user would do it.
 struct OpenCvFisheye {
@@ -109,6 +118,9 @@ BENCHMARK_CAPTURE(BM_MapBuild, perspective_1024x512, VT::kPerspective, 1024, 512
 BENCHMARK_CAPTURE(BM_MapBuild, perspective_2048x1024, VT::kPerspective, 2048, 1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_MapBuild, cylindrical_1024x512, VT::kCylindrical, 1024, 512)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_MapBuild, fisheye_512x512, VT::kFisheye, 512, 512)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ReferenceMethod, perspective_1024x512, VT::kPerspective, 1024, 512)->Name("BM_Anchor_reference_method/perspective_1024x512")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ReferenceMethod, cylindrical_1024x512, VT::kCylindrical, 1024, 512)->Name("BM_Anchor_reference_method/cylindrical_1024x512")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ReferenceMethod, fisheye_512x512, VT::kFisheye, 512, 512)->Name("BM_Anchor_reference_method/fisheye_512x512")->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_OpenCvFisheyeInitMap)->Name("BM_Anchor_cv_fisheye_initUndistortRectifyMap_1024x512")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_CAPTURE(BM_Apply, perspective_512x256_rgb, VT::kPerspective, 512, 256, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
