@@ -40,8 +40,6 @@ ROWS = [
      "BM_Anchor_cv_remap_16SC2_linear_1024x512_grey", "≥ 1.3× cv::remap", 1024 * 512 * (8 + 1 + 1)),
     ("apply 2048×1024, colour", "BM_Apply/perspective_2048x1024_rgb", "cv::remap 1024×512 × 4",
      "BM_Anchor_cv_remap_16SC2_linear_1024x512_rgb", "≤ 2.5 ms", 2048 * 1024 * (8 + 3 + 3)),
-    ("apply 1024×512 colour, footprint-aware (pyramid)", "BM_ApplyFootprint/perspective_1024x512_rgb",
-     "cv::remap 16SC2, 1 camera", "BM_Anchor_cv_remap_16SC2_linear_1024x512_rgb", "", 1024 * 512 * (8 + 3 + 3)),
     ("JPEG q85 1024×512, colour", "BM_EncodeJpeg/1024x512_rgb", "cv::imencode", "BM_Anchor_cv_imencode_jpeg_1024x512_rgb",
      "", None),
     ("JPEG q85 1024×512, grey", "BM_EncodeJpeg/1024x512_grey", "cv::imencode", "BM_Anchor_cv_imencode_jpeg_1024x512_grey",
