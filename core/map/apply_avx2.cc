@@ -11,13 +11,14 @@ namespace {
 // last few pixels. pmulhrsw: (a * b + 2^14) >> 15.
 inline int mulhrs(int a, int b) { return (a * b + (1 << 14)) >> 15; }
 
-inline void bgr_pixel(const MapEntry& e, const GatherSources& s, uint8_t* out) {
+inline void bgr_pixel(const MapEntry& e, const GatherSources& s, int cameras, uint8_t* out) {
   if (e.cam == kNoCamera) {
     out[0] = out[1] = out[2] = 0;
     return;
   }
-  const uint8_t* top = s.base + s.delta[e.cam] + static_cast<size_t>(e.offset) * 3;
-  const uint8_t* bottom = top + s.stride[e.cam];
+  const int source = e.cam + e.level * cameras;
+  const uint8_t* top = s.base + s.delta[source] + static_cast<size_t>(e.offset) * 3;
+  const uint8_t* bottom = top + s.stride[source];
   const int fx = e.fx << 7, fy = e.fy << 7;
   for (int c = 0; c < 3; ++c) {
     const int ht = (top[c] << 6) + mulhrs((top[c + 3] - top[c]) << 6, fx);
@@ -26,19 +27,29 @@ inline void bgr_pixel(const MapEntry& e, const GatherSources& s, uint8_t* out) {
   }
 }
 
-inline uint8_t grey_pixel(const MapEntry& e, const GatherSources& s) {
+inline uint8_t grey_pixel(const MapEntry& e, const GatherSources& s, int cameras) {
   if (e.cam == kNoCamera) return 0;
-  const uint8_t* top = s.base + s.delta[e.cam] + e.offset;
-  const uint8_t* bottom = top + s.stride[e.cam];
+  const int source = e.cam + e.level * cameras;
+  const uint8_t* top = s.base + s.delta[source] + e.offset;
+  const uint8_t* bottom = top + s.stride[source];
   const int fx = e.fx, fy = e.fy;
   const int left = top[0] * (256 - fy) + bottom[0] * fy, right = top[1] * (256 - fy) + bottom[1] * fy;
   return static_cast<uint8_t>((left * 256 + (right - left) * fx + 32768) >> 16);
 }
 
-// Eight map entries as offsets and (fx | fy << 8 | cam << 16) words, in pixel order.
+// Eight map entries as offsets and (fx | fy << 8 | cam << 16 | level << 24) words, in
+// pixel order.
 struct Entries8 {
   __m256i offset, rest;
 };
+
+// Which source each entry reads (cam + level * cameras), and which entries are black.
+__attribute__((target("avx2"), always_inline)) inline __m256i source_index(__m256i rest, __m256i cameras,
+                                                                           __m256i& black) {
+  const __m256i cam = _mm256_and_si256(_mm256_srli_epi32(rest, 16), _mm256_set1_epi32(0xFF));
+  black = _mm256_cmpeq_epi32(cam, _mm256_set1_epi32(kNoCamera));
+  return _mm256_add_epi32(cam, _mm256_mullo_epi32(_mm256_srli_epi32(rest, 24), cameras));
+}
 
 __attribute__((target("avx2"), always_inline)) inline Entries8 load_entries(const MapEntry* m) {
   const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(m));      // pixels 0-3
@@ -63,10 +74,10 @@ bool have_avx2() {
 // padding. Interpolation in 16-bit lanes in 1/64 of a level: horizontal, then vertical,
 // each one pmulhrsw with the 8-bit fraction.
 __attribute__((target("avx2"))) void apply_row_bgr_avx2(const MapEntry* m, int n, const GatherSources& s,
-                                                        uint8_t* out) {
+                                                        int cameras, uint8_t* out) {
+  const __m256i camera_count = _mm256_set1_epi32(cameras);
   const __m256i delta = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.delta));
   const __m256i stride = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.stride));
-  const __m256i no_camera = _mm256_set1_epi32(kNoCamera);
   const __m256i low3 = _mm256_set1_epi32(0x00FFFFFF);
   const __m256i zero = _mm256_setzero_si256();
   const __m256i round = _mm256_set1_epi16(32);
@@ -82,8 +93,8 @@ __attribute__((target("avx2"))) void apply_row_bgr_avx2(const MapEntry* m, int n
   int i = 0;
   for (; i + 8 <= n; i += 8, out += 24) {
     const Entries8 e = load_entries(m + i);
-    const __m256i cam = _mm256_srli_epi32(e.rest, 16);
-    const __m256i black = _mm256_cmpeq_epi32(cam, no_camera);
+    __m256i black;
+    const __m256i cam = source_index(e.rest, camera_count, black);
     const __m256i offset3 = _mm256_add_epi32(e.offset, _mm256_slli_epi32(e.offset, 1));
     const __m256i top = _mm256_andnot_si256(black, _mm256_add_epi32(offset3, _mm256_permutevar8x32_epi32(delta, cam)));
     const __m256i bottom = _mm256_andnot_si256(black, _mm256_add_epi32(top, _mm256_permutevar8x32_epi32(stride, cam)));
@@ -115,18 +126,18 @@ __attribute__((target("avx2"))) void apply_row_bgr_avx2(const MapEntry* m, int n
     _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm256_castsi256_si128(packed));
     _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 16), _mm256_extracti128_si256(packed, 1));
   }
-  for (; i < n; ++i, out += 3) bgr_pixel(m[i], s, out);
+  for (; i < n; ++i, out += 3) bgr_pixel(m[i], s, cameras, out);
 }
 
 // Grey: the top pair gathered at the footprint, the bottom pair as the last two bytes of
 // a gather two bytes earlier (no read past the image's last pixel). Vertical first with
 // pmaddwd in 1/256, then horizontal in 32 bits.
 __attribute__((target("avx2"))) void apply_row_grey_avx2(const MapEntry* m, int n, const GatherSources& s,
-                                                         uint8_t* out) {
+                                                         int cameras, uint8_t* out) {
+  const __m256i camera_count = _mm256_set1_epi32(cameras);
   const __m256i delta = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.delta));
   const __m256i stride = _mm256_sub_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.stride)),
                                           _mm256_set1_epi32(2));
-  const __m256i no_camera = _mm256_set1_epi32(kNoCamera);
   const __m256i byte_mask = _mm256_set1_epi32(0xFF);
   const __m256i even_bytes = _mm256_set1_epi32(0x00FF00FF);
   const __m256i full = _mm256_set1_epi32(256);
@@ -136,8 +147,8 @@ __attribute__((target("avx2"))) void apply_row_grey_avx2(const MapEntry* m, int 
   int i = 0;
   for (; i + 8 <= n; i += 8, out += 8) {
     const Entries8 e = load_entries(m + i);
-    const __m256i cam = _mm256_srli_epi32(e.rest, 16);
-    const __m256i black = _mm256_cmpeq_epi32(cam, no_camera);
+    __m256i black;
+    const __m256i cam = source_index(e.rest, camera_count, black);
     const __m256i top = _mm256_andnot_si256(black, _mm256_add_epi32(e.offset, _mm256_permutevar8x32_epi32(delta, cam)));
     const __m256i bottom = _mm256_add_epi32(top, _mm256_andnot_si256(black, _mm256_permutevar8x32_epi32(stride, cam)));
     const __m256i t = _mm256_i32gather_epi32(base, top, 1);     // t0 t1 . .
@@ -155,7 +166,7 @@ __attribute__((target("avx2"))) void apply_row_grey_avx2(const MapEntry* m, int 
     _mm_storel_epi64(reinterpret_cast<__m128i*>(out),
                      _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(bytes, gather_words)));
   }
-  for (; i < n; ++i) *out++ = grey_pixel(m[i], s);
+  for (; i < n; ++i) *out++ = grey_pixel(m[i], s, cameras);
 }
 
 }  // namespace omniview::apply_internal

@@ -10,8 +10,9 @@
 
 namespace omniview::apply_internal {
 
-// All used cameras as 32-bit byte offsets from one base pointer, so one gather serves
-// pixels from different cameras. Up to 8 cameras; built by apply.cc.
+// All used sources (camera i at pyramid level l is source i + l * cameras) as 32-bit byte
+// offsets from one base pointer, so one gather serves pixels from different cameras. Up
+// to 8 sources; built by apply.cc.
 struct GatherSources {
   const uint8_t* base = nullptr;
   int32_t delta[8] = {};   // camera image start - base, in bytes
@@ -30,8 +31,8 @@ bool have_avx2();
 
 // Nearest-centre rows whose sources all have the output's channel count. Entries with
 // cam == kNoCamera give black; n may be any length (the tail goes pixel by pixel).
-void apply_row_bgr_avx2(const MapEntry* m, int n, const GatherSources& s, uint8_t* out);
-void apply_row_grey_avx2(const MapEntry* m, int n, const GatherSources& s, uint8_t* out);
+void apply_row_bgr_avx2(const MapEntry* m, int n, const GatherSources& s, int cameras, uint8_t* out);
+void apply_row_grey_avx2(const MapEntry* m, int n, const GatherSources& s, int cameras, uint8_t* out);
 #endif
 
 }  // namespace omniview::apply_internal

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/map/apply.h"
 #include "core/map/apply_avx2.h"
@@ -137,6 +138,41 @@ TEST(ApplyMap, NonContinuousImagesAreSampledCorrectly) {
     images.push_back(img(cv::Rect(3, 2, kSizes[images.size()].width, kSizes[images.size()].height)));
   }
   expect_matches_reference(map, images, 3);
+}
+
+// Entries at pyramid levels read cv::pyrDown's images (footprint.h), built by apply_map.
+TEST(ApplyMap, PyramidLevelsReadPyrDownImages) {
+  for (int channels : {1, 3}) {
+    const auto images = random_images(kSizes, channels == 3 ? CV_8UC3 : CV_8UC1);
+    FusionMap map = random_map(45, 12, kSizes, 600 + channels);
+    std::vector<std::vector<cv::Mat>> pyramids(kSizes.size());
+    for (size_t c = 0; c < kSizes.size(); ++c) cv::buildPyramid(images[c], pyramids[c], 2);
+    map.camera_levels = {2, 1};
+    cv::RNG rng(9);
+    for (auto& e : map.primary) {
+      if (e.cam == kNoCamera) continue;
+      e.level = static_cast<uint8_t>(rng.uniform(0, map.camera_levels[e.cam] + 1));
+      const cv::Size s = pyramids[e.cam][e.level].size();
+      e.offset = static_cast<uint32_t>(rng.uniform(0, s.height - 1) * s.width + rng.uniform(0, s.width - 1));
+    }
+    for (bool simd : {true, false}) {
+      apply_internal::set_simd_enabled(simd);
+      cv::Mat out;
+      apply_map(map, images, out, channels);
+      for (int y = 0; y < map.height; ++y) {
+        for (int x = 0; x < map.width; ++x) {
+          const MapEntry& e = map.primary[static_cast<size_t>(y) * map.width + x];
+          for (int c = 0; c < channels; ++c) {
+            const int got = out.ptr<uint8_t>(y)[x * channels + c];
+            const int want =
+                e.cam == kNoCamera ? 0 : static_cast<int>(std::lround(reference(pyramids[e.cam][e.level], e, c, channels)));
+            ASSERT_LE(std::abs(got - want), 1) << (simd ? "SIMD" : "portable") << " pixel (" << x << ", " << y << ")";
+          }
+        }
+      }
+    }
+    apply_internal::set_simd_enabled(true);
+  }
 }
 
 }  // namespace
