@@ -1,7 +1,7 @@
 """Turns Google Benchmark JSON (map_bench, encode_bench) into bench/README.md's speed table.
 
 Medians only; every row names the anchor measured in the same run and the ratio to it.
-Usage: make_table.py map.json encode.json README.md (rewrites the block between the
+Usage: make_table.py map.json encode.json map_1thread.json README.md (rewrites the block between the
 <!-- speed-table --> and <!-- /speed-table --> markers)."""
 import json
 import platform
@@ -18,7 +18,7 @@ def medians(path):
             continue
         name = re.sub(r"(/real_time)?_median$", "", b["name"])
         scale = {"ms": 1.0, "us": 1e-3, "ns": 1e-6, "s": 1e3}[b["time_unit"]]
-        out[name] = (b["real_time"] * scale, b)
+        out[name] = (b["real_time"] * scale, b["cpu_time"] * scale)
     return out, data["context"]
 
 
@@ -54,13 +54,17 @@ def main():
     figures, context = medians(sys.argv[1])
     encode, _ = medians(sys.argv[2])
     figures.update(encode)
+    single, _ = medians(sys.argv[3])
     lines = [
         f"Medians, one run of `bash bench/run_tables.sh` ({context.get('num_cpus')} CPUs at "
         f"{context.get('mhz_per_cpu')} MHz, load average {', '.join(f'{x:.1f}' for x in context.get('load_avg', []))}; "
-        f"{platform.machine()}). Ratio: anchor time / ours (> 1: ours faster).",
+        f"{platform.machine()}). Ratio: anchor time / ours (> 1: ours faster). First columns: wall "
+        "time on 2 threads (JPEG: 1 thread); last columns: CPU time on 1 thread (the reference method "
+        "always runs on 1), which a loaded machine disturbs less. GB/s: map entries, output and "
+        "~1 source pixel per output pixel, over the 2-thread time.",
         "",
-        "| work | ours | anchor, same run | ratio | target | GB/s |",
-        "|---|---|---|---|---|---|",
+        "| work | ours | anchor, same run | ratio | target | GB/s | 1 thread CPU: ours / anchor | ratio |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for label, name, anchor_label, anchor, target, traffic in ROWS:
         if name not in figures or anchor not in figures:
@@ -68,16 +72,23 @@ def main():
         ours = figures[name][0]
         ref = figures[anchor][0] * (4 if "× 4" in anchor_label else 1)
         gbs = f"{traffic / (ours * 1e-3) / 1e9:.1f}" if traffic else ""
-        lines.append(f"| {label} | {ours:.3g} ms | {anchor_label}: {ref:.3g} ms | {ref / ours:.2f}× | {target} | {gbs} |")
+        one = ""
+        if name in single and anchor in single:
+            ours1 = single[name][1]
+            ref1 = single[anchor][1] * (4 if "× 4" in anchor_label else 1)
+            one = f"{ours1:.3g} / {ref1:.3g} ms | {ref1 / ours1:.2f}×"
+        else:
+            one = " | "
+        lines.append(f"| {label} | {ours:.3g} ms | {anchor_label}: {ref:.3g} ms | {ref / ours:.2f}× | {target} | {gbs} | {one} |")
     table = "\n".join(lines)
-    with open(sys.argv[3]) as f:
+    with open(sys.argv[4]) as f:
         readme = f.read()
     begin, end = "<!-- speed-table -->", "<!-- /speed-table -->"
     if begin not in readme:
         readme += f"\n{begin}\n{end}\n"
     head, rest = readme.split(begin, 1)
     _, tail = rest.split(end, 1)
-    with open(sys.argv[3], "w") as f:
+    with open(sys.argv[4], "w") as f:
         f.write(f"{head}{begin}\n{table}\n{end}{tail}")
     print(table)
 

@@ -181,6 +181,7 @@ bool make_gather_sources(const std::vector<Source>& sources, apply_internal::Gat
     if (sources[i].data == nullptr) continue;
     g.delta[i] = static_cast<int32_t>(reinterpret_cast<uintptr_t>(sources[i].data) - lo);
     g.stride[i] = static_cast<int32_t>(sources[i].stride);
+    g.last_wide[i] = g.delta[i] + static_cast<int32_t>(sources[i].stride * sources[i].rows) - 8;
   }
   return true;
 }

@@ -69,9 +69,9 @@ bool have_avx2() {
   return __builtin_cpu_supports("avx2");
 }
 
-// Colour: per pixel two 4-byte gathers per row, at the footprint's first byte (B G R B')
-// and two bytes on (R B' G' R'), so no read leaves the 2x2 footprint and no image needs
-// padding. Interpolation in 16-bit lanes in 1/64 of a level: horizontal, then vertical,
+// Colour: per pixel and row one 8-byte gather (B G R B' G' R' and two bytes more); where
+// those two bytes would lie past the image's end, two 4-byte gathers at the footprint's
+// first byte (B G R B') and two bytes on (R B' G' R'), so no image needs padding. Interpolation in 16-bit lanes in 1/64 of a level: horizontal, then vertical,
 // each one pmulhrsw with the 8-bit fraction.
 __attribute__((target("avx2"))) void apply_row_bgr_avx2(const MapEntry* m, int n, const GatherSources& s,
                                                         int cameras, uint8_t* out) {
@@ -89,7 +89,11 @@ __attribute__((target("avx2"))) void apply_row_bgr_avx2(const MapEntry* m, int n
   const __m256i pack3 = _mm256_setr_epi8(0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1,
                                          0, 1, 2, 4, 5, 6, 8, 9, 10, 12, 13, 14, -1, -1, -1, -1);
   const __m256i join = _mm256_setr_epi32(0, 1, 2, 4, 5, 6, 7, 7);
+  const __m256i last_wide = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(s.last_wide));
+  const __m256i split = _mm256_setr_epi8(0, 1, 2, -1, 8, 9, 10, -1, 3, 4, 5, -1, 11, 12, 13, -1,
+                                         0, 1, 2, -1, 8, 9, 10, -1, 3, 4, 5, -1, 11, 12, 13, -1);
   const int* base = reinterpret_cast<const int*>(s.base);
+  const long long* base64 = reinterpret_cast<const long long*>(s.base);
   int i = 0;
   for (; i + 8 <= n; i += 8, out += 24) {
     const Entries8 e = load_entries(m + i);
@@ -98,15 +102,34 @@ __attribute__((target("avx2"))) void apply_row_bgr_avx2(const MapEntry* m, int n
     const __m256i offset3 = _mm256_add_epi32(e.offset, _mm256_slli_epi32(e.offset, 1));
     const __m256i top = _mm256_andnot_si256(black, _mm256_add_epi32(offset3, _mm256_permutevar8x32_epi32(delta, cam)));
     const __m256i bottom = _mm256_andnot_si256(black, _mm256_add_epi32(top, _mm256_permutevar8x32_epi32(stride, cam)));
-    const __m256i two = _mm256_set1_epi32(2);
-    const __m256i t0 = _mm256_i32gather_epi32(base, top, 1);
-    const __m256i t2 = _mm256_i32gather_epi32(base, _mm256_add_epi32(top, two), 1);
-    const __m256i b0 = _mm256_i32gather_epi32(base, bottom, 1);
-    const __m256i b2 = _mm256_i32gather_epi32(base, _mm256_add_epi32(bottom, two), 1);
-    // Left pixel B G R 0, right pixel B' G' R' 0, per 32-bit lane.
-    const __m256i tl = _mm256_and_si256(t0, low3), bl = _mm256_and_si256(b0, low3);
-    const __m256i tr = _mm256_or_si256(_mm256_srli_epi32(t0, 24), _mm256_slli_epi32(_mm256_srli_epi32(t2, 16), 8));
-    const __m256i br = _mm256_or_si256(_mm256_srli_epi32(b0, 24), _mm256_slli_epi32(_mm256_srli_epi32(b2, 16), 8));
+    // Left pixel B G R 0, right pixel B' G' R' 0, per 32-bit lane, in pixel order.
+    __m256i tl, tr, bl, br;
+    const __m256i unsafe = _mm256_cmpgt_epi32(bottom, _mm256_permutevar8x32_epi32(last_wide, cam));
+    if (_mm256_testz_si256(unsafe, unsafe)) {
+      // Usually: one 8-byte gather per pixel and row (half the elements of 4-byte gathers).
+      const __m256i qt0 = _mm256_i32gather_epi64(base64, _mm256_castsi256_si128(top), 1);        // pixels 0-3
+      const __m256i qt1 = _mm256_i32gather_epi64(base64, _mm256_extracti128_si256(top, 1), 1);   // pixels 4-7
+      const __m256i qb0 = _mm256_i32gather_epi64(base64, _mm256_castsi256_si128(bottom), 1);
+      const __m256i qb1 = _mm256_i32gather_epi64(base64, _mm256_extracti128_si256(bottom, 1), 1);
+      // Per lane [L(a) L(b) R(a) R(b)]; then pixel order across both gathers.
+      const __m256i ta = _mm256_shuffle_epi8(qt0, split), tb = _mm256_shuffle_epi8(qt1, split);
+      const __m256i ba = _mm256_shuffle_epi8(qb0, split), bb = _mm256_shuffle_epi8(qb1, split);
+      constexpr int kOrder = _MM_SHUFFLE(3, 1, 2, 0);
+      tl = _mm256_permute4x64_epi64(_mm256_unpacklo_epi64(ta, tb), kOrder);
+      tr = _mm256_permute4x64_epi64(_mm256_unpackhi_epi64(ta, tb), kOrder);
+      bl = _mm256_permute4x64_epi64(_mm256_unpacklo_epi64(ba, bb), kOrder);
+      br = _mm256_permute4x64_epi64(_mm256_unpackhi_epi64(ba, bb), kOrder);
+    } else {
+      // Footprints at an image's very end: 4-byte reads that stay inside the footprint.
+      const __m256i two = _mm256_set1_epi32(2);
+      const __m256i t0 = _mm256_i32gather_epi32(base, top, 1);
+      const __m256i t2 = _mm256_i32gather_epi32(base, _mm256_add_epi32(top, two), 1);
+      const __m256i b0 = _mm256_i32gather_epi32(base, bottom, 1);
+      const __m256i b2 = _mm256_i32gather_epi32(base, _mm256_add_epi32(bottom, two), 1);
+      tl = _mm256_and_si256(t0, low3), bl = _mm256_and_si256(b0, low3);
+      tr = _mm256_or_si256(_mm256_srli_epi32(t0, 24), _mm256_slli_epi32(_mm256_srli_epi32(t2, 16), 8));
+      br = _mm256_or_si256(_mm256_srli_epi32(b0, 24), _mm256_slli_epi32(_mm256_srli_epi32(b2, 16), 8));
+    }
     // Weights fx << 7 and fy << 7 per 16-bit lane.
     const __m256i fxb = _mm256_shuffle_epi8(e.rest, spread_fx), fyb = _mm256_shuffle_epi8(e.rest, spread_fy);
     __m256i result[2];

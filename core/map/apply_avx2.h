@@ -17,6 +17,7 @@ struct GatherSources {
   const uint8_t* base = nullptr;
   int32_t delta[8] = {};   // camera image start - base, in bytes
   int32_t stride[8] = {};  // bytes per row
+  int32_t last_wide[8] = {};  // last offset from base an 8-byte read may start at in the image
 };
 
 // Tests switch the SIMD rows off to check the portable ones on the same machine.
