@@ -190,18 +190,18 @@ void encode_rows(const std::vector<CameraSetup>& setups, int row_begin, int row_
     uniform = uniform && c.limits.width_px == setups[0].limits.width_px && c.limits.max_v == setups[0].limits.max_v;
   }
   const int w = map.width;
+  std::vector<uint32_t> words(2 * static_cast<size_t>(w));
   for (int y = row_begin; y < row_end; ++y) {
     const size_t row = static_cast<size_t>(y - row_begin) * w;
     MapEntry* out = &map.primary[static_cast<size_t>(y) * w];
     if (uniform) {
       const SampleLimits limits = setups[0].limits;
-      // MapEntry as two 32-bit words: offset, then fx | fy << 8 | cam << 16, updated in
-      // place (exact and black blocks are already there).
-      using Word = uint32_t __attribute__((may_alias));
-      Word* __restrict dst = reinterpret_cast<Word*>(out);
+      // MapEntry as two 32-bit words: offset, then fx | fy << 8 | cam << 16.
+      uint32_t* __restrict dst = words.data();
       const uint8_t* __restrict row_cams = cams + row;
       const float* __restrict row_u = u + row;
       const float* __restrict row_v = v + row;
+      std::memcpy(dst, out, w * sizeof(uint64_t));  // exact and black blocks are already there
       for (int x = 0; x < w; ++x) {
         const uint32_t cam = row_cams[x];
         uint32_t rest;
@@ -210,6 +210,7 @@ void encode_rows(const std::vector<CameraSetup>& setups, int row_begin, int row_
         dst[2 * x] = (offset & take) | (dst[2 * x] & ~take);
         dst[2 * x + 1] = (rest & take) | (dst[2 * x + 1] & ~take);
       }
+      std::memcpy(out, dst, w * sizeof(uint64_t));
     } else {
       for (int x = 0; x < w; ++x) {
         const uint8_t cam = cams[row + x];
@@ -255,12 +256,8 @@ void build_band_adaptive(const View& view, const std::vector<CameraSetup>& setup
   ExactBlocks exact(view, setups, map, ya, row_end, used);
   // Interpolated pixels: coordinates and camera per pixel of the band; kNoCamera elsewhere.
   const size_t band_pixels = static_cast<size_t>(row_end - ya) * map.width;
-  // Per-thread scratch, reused band after band. Coordinates are read only where band_cam
-  // names a camera, so they need no clearing.
-  thread_local std::vector<float> band_u, band_v;
-  thread_local std::vector<uint8_t> band_cam;
-  if (band_u.size() < band_pixels) band_u.resize(band_pixels), band_v.resize(band_pixels);
-  band_cam.assign(band_pixels, kNoCamera);
+  std::vector<float> band_u(band_pixels), band_v(band_pixels);
+  std::vector<uint8_t> band_cam(band_pixels, kNoCamera);
   int exact_run_begin = -1;  // consecutive exact blocks are computed as one run
   for (int j = 0; j <= blocks; ++j) {
     Plan plan = Plan::kExact;
