@@ -13,6 +13,7 @@
 #include "core/map/fusion_map.h"
 #include "core/rig/rig.h"
 #include "core/view/view.h"
+#include "reference_map.h"
 
 namespace omniview {
 namespace {
@@ -65,6 +66,32 @@ void BM_Apply(benchmark::State& state, ViewType type, int w, int h, int channels
   state.counters["Mpx/s"] = benchmark::Counter(double(w) * h, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// A view that shrinks the lenses (360 x 180 deg at 384x192: ~4.6 lens pixels per view
+// pixel), applied with footprint-aware sampling (the pyramid level built per frame is
+// part of the time) and with plain bilinear sampling.
+void BM_ApplyShrinking(benchmark::State& state, Sampling sampling) {
+  ViewSpec spec = table_view(ViewType::kEquirectangular, 384, 192);
+  const auto view = View::create(spec);
+  const FusionMap map = build_map(example_rig(), *view, MapPrecision::kAdaptive, sampling);
+  const auto images = random_images(example_rig(), CV_8UC3);
+  cv::Mat out;
+  for (auto _ : state) {
+    apply_map(map, images, out, 3);
+    benchmark::ClobberMemory();
+  }
+  int deepest = 0;
+  for (uint8_t l : map.camera_levels) deepest = std::max<int>(deepest, l);
+  state.counters["levels"] = deepest;
+}
+
+// The anchor for map builds: the paper's per-pixel method restated (reference_map.h),
+// single-threaded as the paper describes it.
+void BM_ReferenceMethod(benchmark::State& state, ViewType type, int w, int h) {
+  const auto view = View::create(table_view(type, w, h));
+  for (auto _ : state) benchmark::DoNotOptimize(bench::reference_map(example_rig(), *view));
+  state.counters["Mpx/s"] = benchmark::Counter(double(w) * h, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 // The anchor: the same 1024x512, 120 deg perspective output from the front lens alone,
 // the way an OpenCV user would do it.
 struct OpenCvFisheye {
@@ -109,6 +136,9 @@ BENCHMARK_CAPTURE(BM_MapBuild, perspective_1024x512, VT::kPerspective, 1024, 512
 BENCHMARK_CAPTURE(BM_MapBuild, perspective_2048x1024, VT::kPerspective, 2048, 1024)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_MapBuild, cylindrical_1024x512, VT::kCylindrical, 1024, 512)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_MapBuild, fisheye_512x512, VT::kFisheye, 512, 512)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ReferenceMethod, perspective_1024x512, VT::kPerspective, 1024, 512)->Name("BM_Anchor_reference_method/perspective_1024x512")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ReferenceMethod, cylindrical_1024x512, VT::kCylindrical, 1024, 512)->Name("BM_Anchor_reference_method/cylindrical_1024x512")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ReferenceMethod, fisheye_512x512, VT::kFisheye, 512, 512)->Name("BM_Anchor_reference_method/fisheye_512x512")->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_OpenCvFisheyeInitMap)->Name("BM_Anchor_cv_fisheye_initUndistortRectifyMap_1024x512")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_CAPTURE(BM_Apply, perspective_512x256_rgb, VT::kPerspective, 512, 256, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
@@ -117,6 +147,8 @@ BENCHMARK_CAPTURE(BM_Apply, perspective_1024x512_grey, VT::kPerspective, 1024, 5
 BENCHMARK_CAPTURE(BM_Apply, perspective_2048x1024_rgb, VT::kPerspective, 2048, 1024, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Apply, cylindrical_1024x512_rgb, VT::kCylindrical, 1024, 512, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_Apply, fisheye_512x512_rgb, VT::kFisheye, 512, 512, 3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ApplyShrinking, equirect_384x192_rgb_bilinear, Sampling::kBilinear)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ApplyShrinking, equirect_384x192_rgb_footprint, Sampling::kFootprint)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_OpenCvRemap, rgb, 3)->Name("BM_Anchor_cv_remap_16SC2_linear_1024x512_rgb")->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_OpenCvRemap, grey, 1)->Name("BM_Anchor_cv_remap_16SC2_linear_1024x512_grey")->Unit(benchmark::kMillisecond)->UseRealTime();
 

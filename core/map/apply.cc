@@ -1,10 +1,15 @@
 #include "core/map/apply.h"
 
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
+#include "core/map/apply_avx2.h"
 #include "core/map/multiversion.h"
 
 namespace omniview {
@@ -14,6 +19,7 @@ struct Source {
   const uint8_t* data = nullptr;
   size_t stride = 0;  // bytes per row; images are continuous, so width * channels
   int channels = 0;
+  int rows = 0;
   uint32_t last_footprint = 0;  // offset of the footprint whose bottom-right is the last pixel
 };
 
@@ -105,55 +111,90 @@ inline void sample_any(const Source& s, const MapEntry& e, int out_channels, uin
 
 // Nearest-centre maps whose sources all have the output's channel count: the hot path.
 template <int C>
-[[gnu::always_inline]] inline void apply_row_uniform(const MapEntry* m, const Source* sources, int n, uint8_t* out) {
+// sources[cam + level * cameras]: each camera's image, then its pyramid levels (footprint.h).
+[[gnu::always_inline]] inline void apply_row_uniform(const MapEntry* m, const Source* sources, int cameras, int n,
+                                                     uint8_t* out) {
   for (int i = 0; i < n; ++i, out += C) {
     const MapEntry e = m[i];
     if (e.cam == kNoCamera) {
       std::memset(out, 0, C);
     } else if constexpr (C == 3) {
       if (i + 1 < n) {
-        bilinear3(sources[e.cam], e, out);  // 4-byte store; the next pixel overwrites the 4th
+        bilinear3(sources[e.cam + e.level * cameras], e, out);  // 4-byte store; the next pixel overwrites the 4th
       } else {
         uint8_t last[4];
-        bilinear3(sources[e.cam], e, last);
+        bilinear3(sources[e.cam + e.level * cameras], e, last);
         std::memcpy(out, last, 3);
       }
     } else {
-      out[0] = bilinear1(sources[e.cam], e);
+      out[0] = bilinear1(sources[e.cam + e.level * cameras], e);
     }
   }
 }
 
 void apply_row_general(const FusionMap& map, size_t first, const Source* sources, int n, int oc, uint8_t* out) {
   const bool blend = !map.secondary.empty();
+  const int cameras = static_cast<int>(map.camera_sizes.size());
   for (int i = 0; i < n; ++i, out += oc) {
     const MapEntry& e = map.primary[first + i];
     if (e.cam == kNoCamera) {
       std::memset(out, 0, oc);
       continue;
     }
-    sample_any(sources[e.cam], e, oc, out);
+    sample_any(sources[e.cam + e.level * cameras], e, oc, out);
     if (!blend) continue;
     const MapEntry& e2 = map.secondary[first + i];
     const uint32_t w = map.primary_weight[first + i];
     if (e2.cam == kNoCamera || w >= 256) continue;
     uint8_t other[3];
-    sample_any(sources[e2.cam], e2, oc, other);
+    sample_any(sources[e2.cam + e2.level * cameras], e2, oc, other);
     for (int c = 0; c < oc; ++c) out[c] = static_cast<uint8_t>((out[c] * w + other[c] * (256 - w) + 128) >> 8);
   }
 }
 
 // The hot paths, built for baseline x86-64 and x86-64-v3 (see multiversion.h).
 OMNIVIEW_MULTIVERSION
-void apply_row_uniform_bgr(const MapEntry* m, const Source* sources, int n, uint8_t* out) {
-  apply_row_uniform<3>(m, sources, n, out);
+void apply_row_uniform_bgr(const MapEntry* m, const Source* sources, int cameras, int n, uint8_t* out) {
+  apply_row_uniform<3>(m, sources, cameras, n, out);
 }
 OMNIVIEW_MULTIVERSION
-void apply_row_uniform_grey(const MapEntry* m, const Source* sources, int n, uint8_t* out) {
-  apply_row_uniform<1>(m, sources, n, out);
+void apply_row_uniform_grey(const MapEntry* m, const Source* sources, int cameras, int n, uint8_t* out) {
+  apply_row_uniform<1>(m, sources, cameras, n, out);
 }
 
+#ifdef OMNIVIEW_APPLY_AVX2
+// The AVX2 rows address every camera from one base pointer with 32-bit offsets: true if
+// the used images lie close enough together (they do when the allocator maps them near
+// each other, as glibc does; otherwise the portable rows run).
+bool make_gather_sources(const std::vector<Source>& sources, apply_internal::GatherSources& g) {
+  if (sources.size() > 8) return false;
+  uintptr_t lo = UINTPTR_MAX, hi = 0;
+  for (size_t i = 0; i < sources.size(); ++i) {
+    if (sources[i].data == nullptr) continue;
+    const auto start = reinterpret_cast<uintptr_t>(sources[i].data);
+    lo = std::min(lo, start);
+    hi = std::max(hi, start + sources[i].stride * static_cast<size_t>(sources[i].rows));
+  }
+  if (hi == 0 || hi - lo >= (uintptr_t{1} << 31)) return false;
+  g.base = reinterpret_cast<const uint8_t*>(lo);
+  for (size_t i = 0; i < sources.size(); ++i) {
+    if (sources[i].data == nullptr) continue;
+    g.delta[i] = static_cast<int32_t>(reinterpret_cast<uintptr_t>(sources[i].data) - lo);
+    g.stride[i] = static_cast<int32_t>(sources[i].stride);
+    g.last_wide[i] = g.delta[i] + static_cast<int32_t>(sources[i].stride * sources[i].rows) - 8;
+  }
+  return true;
+}
+#endif
+
+std::atomic<bool> g_simd_enabled{true};
+
 }  // namespace
+
+namespace apply_internal {
+void set_simd_enabled(bool enabled) { g_simd_enabled = enabled; }
+bool simd_enabled() { return g_simd_enabled; }
+}  // namespace apply_internal
 
 void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat& out, int out_channels) {
   if (out_channels != 1 && out_channels != 3) {
@@ -163,8 +204,12 @@ void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat
     throw std::invalid_argument("expected " + std::to_string(map.camera_sizes.size()) + " images (one per camera), got " +
                                 std::to_string(images.size()));
   }
-  std::vector<Source> sources(images.size());
-  std::vector<cv::Mat> continuous(images.size());
+  // Camera i at pyramid level l is source i + l * cameras (footprint.h).
+  const size_t cameras = images.size();
+  int levels = 0;
+  for (size_t i = 0; i < map.camera_levels.size(); ++i) levels = std::max<int>(levels, map.camera_levels[i]);
+  std::vector<Source> sources(cameras * (levels + 1));
+  std::vector<cv::Mat> continuous(sources.size());
   bool uniform = map.secondary.empty();
   for (size_t i = 0; i < images.size(); ++i) {
     if (!map.camera_used[i]) continue;
@@ -181,25 +226,56 @@ void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat
                                   std::to_string(map.camera_sizes[i].height));
     }
     continuous[i] = img.isContinuous() ? img : img.clone();  // map offsets assume packed rows
-    sources[i] = Source{continuous[i].data, continuous[i].step[0], img.channels(),
-                        static_cast<uint32_t>((img.rows - 2) * img.cols + img.cols - 2)};
     uniform = uniform && img.channels() == out_channels;
+  }
+  // The pyramid levels this map reads, built once per frame (each camera in parallel).
+  cv::parallel_for_(cv::Range(0, static_cast<int>(cameras)), [&](const cv::Range& r) {
+    for (int i = r.start; i < r.end; ++i) {
+      const int deepest = map.camera_levels.empty() || !map.camera_used[i] ? 0 : map.camera_levels[i];
+      for (int l = 1; l <= deepest; ++l) cv::pyrDown(continuous[i + (l - 1) * cameras], continuous[i + l * cameras]);
+    }
+  });
+  for (size_t i = 0; i < sources.size(); ++i) {
+    const cv::Mat& img = continuous[i];
+    if (img.empty()) continue;
+    sources[i] = Source{img.data, img.step[0], img.channels(), img.rows,
+                        static_cast<uint32_t>((img.rows - 2) * img.cols + img.cols - 2)};
   }
   out.create(map.height, map.width, out_channels == 3 ? CV_8UC3 : CV_8UC1);
   const int w = map.width;
+#ifdef OMNIVIEW_APPLY_AVX2
+  static const bool avx2 = apply_internal::have_avx2();
+  apply_internal::GatherSources gather;
+  const bool use_avx2 = avx2 && apply_internal::simd_enabled() && uniform && make_gather_sources(sources, gather);
+#else
+  const bool use_avx2 = false;
+#endif
+  // A few stripes per thread: large enough that neighbours share no output cache line in
+  // the middle of their work, small enough to even out a loaded core.
+  const int stripes = std::min(map.height, 8 * std::max(1, cv::getNumThreads()));
   cv::parallel_for_(cv::Range(0, map.height), [&](const cv::Range& rows) {
     for (int row = rows.start; row < rows.end; ++row) {
       const size_t first = static_cast<size_t>(row) * w;
       uint8_t* dst = out.ptr<uint8_t>(row);
+#ifdef OMNIVIEW_APPLY_AVX2
+      if (use_avx2) {
+        if (out_channels == 3) {
+          apply_internal::apply_row_bgr_avx2(&map.primary[first], w, gather, static_cast<int>(cameras), dst);
+        } else {
+          apply_internal::apply_row_grey_avx2(&map.primary[first], w, gather, static_cast<int>(cameras), dst);
+        }
+        continue;
+      }
+#endif
       if (uniform && out_channels == 3) {
-        apply_row_uniform_bgr(&map.primary[first], sources.data(), w, dst);
+        apply_row_uniform_bgr(&map.primary[first], sources.data(), static_cast<int>(cameras), w, dst);
       } else if (uniform) {
-        apply_row_uniform_grey(&map.primary[first], sources.data(), w, dst);
+        apply_row_uniform_grey(&map.primary[first], sources.data(), static_cast<int>(cameras), w, dst);
       } else {
         apply_row_general(map, first, sources.data(), w, out_channels, dst);
       }
     }
-  });
+  }, stripes);
 }
 
 }  // namespace omniview

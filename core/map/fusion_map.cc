@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/map/footprint.h"
 #include "core/map/map_kernels.h"
 #include "core/map/usable_region.h"
 
@@ -52,7 +53,7 @@ double FusionMap::coverage() const {
   return static_cast<double>(seen) / static_cast<double>(primary.size());
 }
 
-FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision) {
+FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sampling sampling) {
   const auto& cameras = rig.cameras();
   if (cameras.size() >= kNoCamera) {
     throw std::invalid_argument("a rig may have at most 254 cameras, this one has " + std::to_string(cameras.size()));
@@ -134,6 +135,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision) {
   }
   map.camera_used.resize(cameras.size());
   for (size_t c = 0; c < cameras.size(); ++c) map.camera_used[c] = used[c].load();
+  if (sampling == Sampling::kFootprint) assign_footprint_levels(map);
   return map;
 }
 

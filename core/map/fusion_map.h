@@ -27,7 +27,7 @@ struct MapEntry {
   uint32_t offset;  // y0 * camera_width + x0 of the bilinear footprint's top-left pixel
   uint8_t fx, fy;   // fractional position inside the footprint, in 1/256 px
   uint8_t cam;      // index into the rig's cameras; kNoCamera: black
-  uint8_t reserved;
+  uint8_t level;    // pyramid level of the camera image that offset, fx, fy address (0: full size)
 };
 inline constexpr MapEntry kBlackEntry{0, 0, 0, kNoCamera, 0};
 static_assert(sizeof(MapEntry) == 8);
@@ -65,6 +65,9 @@ struct FusionMap {
   std::vector<cv::Size> camera_sizes;
   std::vector<std::string> camera_names;
   std::vector<bool> camera_used;  // does any pixel read from camera i?
+  // Footprint-aware sampling: the deepest pyramid level any pixel reads from camera i
+  // (0 or empty: none, apply() samples the images as they come). See footprint.h.
+  std::vector<uint8_t> camera_levels;
 
   bool empty() const { return primary.empty(); }
   double coverage() const;  // fraction of pixels some camera sees
@@ -75,9 +78,15 @@ struct FusionMap {
 // kExact evaluates every pixel. Blend maps are always exact.
 enum class MapPrecision { kAdaptive, kExact };
 
+// kFootprint (the default) moves entries whose output pixel covers 4 or more camera
+// pixels (along its shorter axis) to a pre-filtered pyramid level (footprint.h); kBilinear samples the full-size
+// images everywhere. Maps of views that do not shrink are the same either way.
+enum class Sampling { kFootprint, kBilinear };
+
 // Builds the map for `view` over `rig`, using the view's fusion policy. Runs on OpenCV's
 // thread pool (cv::setNumThreads sets its size). Throws std::invalid_argument if the
 // view's frame is not connected to the cameras or the rig has more than 254 cameras.
-FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision = MapPrecision::kAdaptive);
+FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision = MapPrecision::kAdaptive,
+                    Sampling sampling = Sampling::kFootprint);
 
 }  // namespace omniview

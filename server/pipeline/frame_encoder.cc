@@ -5,8 +5,49 @@
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <turbojpeg.h>
 
 namespace omniview {
+namespace {
+
+// One TurboJPEG compressor and output buffer per encoder thread, reused frame after frame;
+// the buffer has TurboJPEG's worst-case size for the frame, so it never reallocates.
+struct JpegCompressor {
+  tjhandle handle = tjInitCompress();
+  unsigned char* buffer = nullptr;
+  unsigned long capacity = 0;
+  ~JpegCompressor() {
+    tjFree(buffer);
+    if (handle != nullptr) tjDestroy(handle);
+  }
+};
+
+// JPEG straight from the view's buffer: BGR or grey as it lies in memory, rows at the Mat's
+// own stride, no swap and no copy. A grey key over a colour view keeps only the luma
+// (TJSAMP_GRAY), which is what converting to grey first would give.
+void encode_jpeg(const cv::Mat& image, int quality, bool gray, v1::Frame& frame) {
+  thread_local JpegCompressor jpeg;
+  if (jpeg.handle == nullptr) throw std::runtime_error("cannot start the JPEG encoder (TurboJPEG)");
+  const bool colour = image.channels() == 3;
+  const int format = colour ? TJPF_BGR : TJPF_GRAY;
+  const int subsampling = gray || !colour ? TJSAMP_GRAY : TJSAMP_420;
+  const unsigned long needed = tjBufSize(image.cols, image.rows, subsampling);
+  if (jpeg.capacity < needed) {
+    tjFree(jpeg.buffer);
+    jpeg.buffer = tjAlloc(static_cast<int>(needed));
+    jpeg.capacity = jpeg.buffer != nullptr ? needed : 0;
+    if (jpeg.buffer == nullptr) throw std::runtime_error("cannot encode JPEG: out of memory");
+  }
+  unsigned long size = jpeg.capacity;
+  if (tjCompress2(jpeg.handle, image.data, image.cols, static_cast<int>(image.step[0]), image.rows, format, &jpeg.buffer,
+                  &size, subsampling, quality, TJFLAG_NOREALLOC) != 0) {
+    throw std::runtime_error(std::string("cannot encode JPEG: ") + tjGetErrorStr2(jpeg.handle));
+  }
+  frame.set_channels(subsampling == TJSAMP_GRAY ? 1 : 3);
+  frame.set_data(jpeg.buffer, size);
+}
+
+}  // namespace
 
 EncodingKey encoding_key(v1::Encoding encoding, int quality, bool gray) {
   EncodingKey key;
@@ -40,11 +81,15 @@ std::string to_string(const EncodingKey& key) {
 }
 
 void encode_frame(const cv::Mat& image, const EncodingKey& key, v1::Frame& frame) {
+  if (image.type() != CV_8UC1 && image.type() != CV_8UC3) {
+    throw std::runtime_error("cannot encode an image of OpenCV type " + std::to_string(image.type()));
+  }
+  frame.set_encoding(key.encoding);
+  frame.set_width(image.cols);
+  frame.set_height(image.rows);
+  if (key.encoding == v1::JPEG) return encode_jpeg(image, key.quality, key.gray, frame);
   cv::Mat pixels = image;
   if (key.gray && image.channels() == 3) cv::cvtColor(image, pixels, cv::COLOR_BGR2GRAY);
-  frame.set_encoding(key.encoding);
-  frame.set_width(pixels.cols);
-  frame.set_height(pixels.rows);
   frame.set_channels(pixels.channels());
   if (key.encoding == v1::RAW) {
     cv::Mat rgb = pixels;
@@ -54,15 +99,8 @@ void encode_frame(const cv::Mat& image, const EncodingKey& key, v1::Frame& frame
     return;
   }
   std::vector<uint8_t> bytes;
-  std::vector<int> params;
-  const char* ext = ".png";
-  if (key.encoding == v1::JPEG) {
-    ext = ".jpg";
-    params = {cv::IMWRITE_JPEG_QUALITY, key.quality};
-  } else {
-    params = {cv::IMWRITE_PNG_COMPRESSION, 1};  // fast: a stream is no archive
-  }
-  if (!cv::imencode(ext, pixels, bytes, params)) throw std::runtime_error(std::string("cannot encode ") + ext);
+  const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 1};  // fast: a stream is no archive
+  if (!cv::imencode(".png", pixels, bytes, params)) throw std::runtime_error("cannot encode PNG");
   frame.set_data(bytes.data(), bytes.size());
 }
 

@@ -34,7 +34,10 @@ Score run(const synthetic::Scene& scene, const Rig& render_rig, const Rig& map_r
                                               {.supersample = 3, .grey = is_grey(inputs, i)}));
   }
   const auto view = View::create(spec);
-  const FusionMap map = build_map(map_rig, *view);
+  // Bilinear sampling everywhere: the reference is the texture at each pixel's centre, which
+  // checks geometry; footprint_test.cc measures footprint-aware sampling against a
+  // box-filtered reference instead.
+  const FusionMap map = build_map(map_rig, *view, MapPrecision::kAdaptive, Sampling::kBilinear);
   Score s;
   apply_map(map, images, s.rendered, out_channels);
 

@@ -62,8 +62,8 @@ Vec2 decode(const MapEntry& e, int camera_width) {
 
 void expect_agreement(const Rig& rig, const ViewSpec& spec) {
   const auto view = View::create(spec);
-  const FusionMap exact = build_map(rig, *view, MapPrecision::kExact);
-  const FusionMap adaptive = build_map(rig, *view, MapPrecision::kAdaptive);
+  const FusionMap exact = build_map(rig, *view, MapPrecision::kExact, Sampling::kBilinear);
+  const FusionMap adaptive = build_map(rig, *view, MapPrecision::kAdaptive, Sampling::kBilinear);
   size_t same_camera = 0, worst_index = 0;
   double worst = 0;
   for (size_t i = 0; i < exact.primary.size(); ++i) {
