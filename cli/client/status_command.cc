@@ -60,6 +60,10 @@ int status_command(const std::vector<std::string>& argv) {
                  fixed(v.coverage() * 100, 1) + "%", fixed(v.last_latency_ms(), 1) + " ms"});
     }
     views.print(std::cout, "  ");
+    for (const auto& v : status.views()) {
+      const std::string warning = low_coverage_warning(v.name(), v.coverage());
+      if (!warning.empty()) std::cout << "  warning: " << warning << "\n";
+    }
   }
 
   std::cout << "\nclients:\n";

@@ -158,6 +158,22 @@ int get(Connection& connection, const std::string& name) {
   return 0;
 }
 
+// A view pointed where no camera looks is mostly black: say so now, not when someone
+// wonders at a black picture.
+void warn_on_low_coverage(Connection& connection, const std::vector<v1::ViewSpec>& created) {
+  v1::Status status;
+  grpc::ClientContext context;
+  connection.prepare(context, true);
+  if (!connection.stub().GetStatus(&context, v1::GetStatusRequest(), &status).ok()) return;  // the views exist
+  for (const auto& v : status.views()) {
+    for (const auto& spec : created) {
+      if (v.name() != spec.name()) continue;
+      const std::string warning = low_coverage_warning(v.name(), v.coverage());
+      if (!warning.empty()) std::cerr << "warning: " << warning << "\n";
+    }
+  }
+}
+
 int create(Connection& connection, const Args& args) {
   if (!args.has("file") && args.all("set").empty()) throw UsageError("create needs --file VIEW.yaml or --set keys");
   const auto specs = specs_from_args(args);
@@ -174,8 +190,11 @@ int create(Connection& connection, const Args& args) {
     connection.prepare(context, true);
     connection.check(connection.stub().CreateView(&context, request, &view), view_label(spec.name()));
     std::cout << "created view '" << view.spec().name() << "' (" << type_name(view.spec()) << ", "
-              << view.spec().width() << "x" << view.spec().height() << ", revision " << view.revision() << ")\n";
+              << view.spec().width() << "x" << view.spec().height() << ", "
+              << (view.spec().fusion() == v1::NEAREST_CENTRE ? "nearest" : "blend") << ", revision "
+              << view.revision() << ")\n";
   }
+  warn_on_low_coverage(connection, specs);
   return 0;
 }
 

@@ -46,6 +46,7 @@ v1::SourceFrame to_source_frame(const FrameSet& frames, uint64_t skipped_before,
   *out.mutable_capture_time() = google::protobuf::util::TimeUtil::NanosecondsToTimestamp(
       std::chrono::duration_cast<std::chrono::nanoseconds>(frames.capture_time.time_since_epoch()).count());
   if (with_rig) out.set_rig_yaml(rig_to_yaml(*frames.rig));
+  if (frames.joints) out.mutable_joint_positions()->insert(frames.joints->begin(), frames.joints->end());
   const auto& cams = frames.rig->cameras();
   for (size_t i = 0; i < frames.images.size() && i < cams.size(); ++i) {
     const cv::Mat& img = frames.images[i];
