@@ -7,6 +7,7 @@
 #include "cli/client/command_support.h"
 #include "cli/client/connection.h"
 #include "cli/client/view_spec_proto.h"
+#include "cli/client/views_save.h"
 #include "core/io/yaml_reader.h"
 #include "core/view/view_spec.h"
 
@@ -19,6 +20,7 @@ const std::string kHelp = std::string(R"(usage: omniview views list
        omniview views create --set name=NAME --set type=TYPE [--set KEY=VALUE ...]
        omniview views update [VIEW] [--file VIEW.yaml] [--set KEY=VALUE ...]
        omniview views delete VIEW [VIEW ...]
+       omniview views save FILE.yaml
 
 Manages omniviewd's views (create, update and delete need an operator token).
 
@@ -29,6 +31,9 @@ Manages omniviewd's views (create, update and delete need an operator token).
   update    change only the keys the file or --set give; with a file and no VIEW, each
             view in the file updates the view of its name; 'name' in --set renames
   delete    remove views
+  save      every current view into FILE.yaml (replaced if it exists), which the daemon
+            loads at start with 'views_file: FILE.yaml' in its config: views created or
+            changed at run time survive a restart
 
   --file FILE        a view YAML file, the schema of 'omniview render --view' and the
                      daemon config's 'views:'
@@ -250,24 +255,30 @@ int views_command(const std::vector<std::string>& argv) {
   const auto args = parse_command_args(argv, {}, {"file", "set"}, kHelp);
   if (!args) return 0;
   const auto& positional = args->positional();
-  if (positional.empty()) throw UsageError("missing subcommand: list, get, create, update or delete (see --help)");
+  if (positional.empty()) throw UsageError("missing subcommand: list, get, create, update, delete or save (see --help)");
   const std::string& sub = positional[0];
   const bool edits = sub == "create" || sub == "update";
   if (!edits && (args->has("file") || args->has("set"))) {
     throw UsageError("--file and --set belong to 'views create' and 'views update'");
   }
-  if (sub != "list" && sub != "get" && !edits && sub != "delete") {
-    throw UsageError("unknown subcommand '" + sub + "': list, get, create, update or delete");
+  if (sub != "list" && sub != "get" && !edits && sub != "delete" && sub != "save") {
+    throw UsageError("unknown subcommand '" + sub + "': list, get, create, update, delete or save");
   }
   if (sub == "list") expect_positional(*args, 1, "");
   if (sub == "get") expect_positional(*args, 2, "VIEW");
   if (sub == "create") expect_positional(*args, 1, "");
+  if (sub == "save") expect_positional(*args, 2, "FILE.yaml");
 
   Connection connection(connection_options(*args));
   if (sub == "list") return list(connection);
   if (sub == "get") return get(connection, positional[1]);
   if (sub == "create") return create(connection, *args);
   if (sub == "update") return update(connection, *args);
+  if (sub == "save") {
+    const int saved = save_views(connection, positional[1]);
+    std::cout << "saved " << saved << " view" << (saved == 1 ? "" : "s") << " to " << positional[1] << "\n";
+    return 0;
+  }
   return remove(connection, *args);
 }
 

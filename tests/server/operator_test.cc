@@ -319,5 +319,52 @@ TEST(OperatorReplay, TheRecordedJointsAreDrawn) {
   EXPECT_EQ(*recorded.frames[0].joints, bent);
 }
 
+std::map<std::string, std::string> views_yaml(v1::Omniview::Stub& stub) {
+  v1::ListViewsResponse response;
+  auto context = make_context();
+  EXPECT_TRUE(stub.ListViews(context.get(), v1::ListViewsRequest(), &response).ok());
+  std::map<std::string, std::string> yaml;
+  for (const auto& v : response.views()) yaml[v.spec().name()] = v.yaml();
+  return yaml;
+}
+
+// `omniview views save` writes what `views_file:` loads: views created and changed at run
+// time come back after a restart, exactly as they were.
+TEST(OperatorViews, SavedViewsSurviveARestart) {
+  TempDir dir;
+  const std::string config = example_config(
+      20, "views_file: saved_views.yaml\nviews:\n  - {name: front, type: perspective, width: 320, height: 160}\n");
+  std::map<std::string, std::string> before;
+  {
+    DaemonProcess daemon(dir, config);  // no saved_views.yaml yet: just the config's views
+    const std::string cli = std::string(OMNIVIEW_CLI) + " --server " + daemon.address() + " ";
+    auto r = run_process(cli + "views create --set name=ptz --set type=perspective --set width=200 --set height=100"
+                               " --set yaw=45 --set tilt=10");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = run_process(cli + "views update front --set hfov=70");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = run_process(cli + "views save " + (dir.path() / "saved_views.yaml").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_TRUE(has(r.output, "saved 2 views")) << r.output;
+    before = views_yaml(*make_stub(daemon.address()));
+    EXPECT_EQ(daemon.stop(), 0);
+  }
+  DaemonProcess restarted(dir, config);
+  auto stub = make_stub(restarted.address());
+  EXPECT_EQ(views_yaml(*stub), before);
+  v1::GetViewRequest get;
+  get.set_name("front");
+  v1::View front;
+  ASSERT_TRUE(stub->GetView(make_context().get(), get, &front).ok());
+  EXPECT_DOUBLE_EQ(front.spec().hfov_deg(), 70) << "the saved view replaces the config's of the same name";
+
+  // A damaged file is named with its line, and the daemon does not start.
+  dir.write("saved_views.yaml", "views:\n  - {name: ptz, type: perspective, hfov_deg: 500}\n");
+  const std::string checked = dir.write("check.yaml", config);
+  const auto r = run_process(std::string(OMNIVIEWD) + " --check --config " + checked);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_TRUE(has(r.output, "saved_views.yaml:2")) << r.output;
+}
+
 }  // namespace
 }  // namespace omniview::testing
