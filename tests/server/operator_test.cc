@@ -94,6 +94,27 @@ TEST_F(Operator, StreamToAPipeEndsQuietlyWhenTheReaderCloses) {
   EXPECT_TRUE(has(r.output, "the reader closed the pipe")) << r.output;
 }
 
+// A client learns the stream's rules from its first message's metadata (docs/API.md).
+TEST_F(Operator, StreamsSayTheirLimitsUpFront) {
+  auto stub = make_stub(daemon_.address());
+  v1::StreamFramesRequest request;
+  request.set_view("front");
+  request.set_max_rate_hz(5);
+  auto context = make_context();
+  auto reader = stub->StreamFrames(context.get(), request);
+  v1::Frame frame;
+  ASSERT_TRUE(reader->Read(&frame));
+  const auto& metadata = context->GetServerInitialMetadata();
+  const auto limits = metadata.find("omniview-stream-limits");
+  ASSERT_NE(limits, metadata.end());
+  const std::string text(limits->second.data(), limits->second.size());
+  EXPECT_TRUE(has(text, "delivery=latest-frame-wins")) << text;
+  EXPECT_TRUE(has(text, "max_rate_hz=5;")) << text;
+  EXPECT_TRUE(has(text, "max_streams_per_connection=8;")) << text;
+  context->TryCancel();
+  reader->Finish();
+}
+
 TEST_F(Operator, SnapshotToStdoutIsOneImage) {
   const fs::path out = dir_.path() / "snap.jpg";
   auto r = cli_to_file("snapshot front -o -", out);
@@ -364,6 +385,27 @@ TEST(OperatorViews, SavedViewsSurviveARestart) {
   const auto r = run_process(std::string(OMNIVIEWD) + " --check --config " + checked);
   EXPECT_NE(r.exit_code, 0);
   EXPECT_TRUE(has(r.output, "saved_views.yaml:2")) << r.output;
+}
+
+// docs/API.md's Python examples run as written, against the real daemon.
+TEST_F(Operator, TheApiDocsPythonExamplesRun) {
+  const std::string doc = file_bytes(fs::path(OMNIVIEW_SOURCE_DIR) / "docs/API.md");
+  int examples = 0;
+  for (size_t start = doc.find("```python\n"); start != std::string::npos; start = doc.find("```python\n", start)) {
+    start += 10;
+    const size_t end = doc.find("\n```", start);
+    ASSERT_NE(end, std::string::npos);
+    const std::string script = dir_.write("example_" + std::to_string(++examples) + ".py", doc.substr(start, end - start));
+    const auto r = run_process("cd " + std::string(OMNIVIEW_SOURCE_DIR) + " && OMNIVIEW_SERVER=" + daemon_.address() +
+                               " " + OMNIVIEW_DEBIAN_PYTHON + " " + script);
+    EXPECT_EQ(r.exit_code, 0) << "docs/API.md Python example " << examples << ":\n" << r.output;
+    if (examples == 1) {
+      EXPECT_TRUE(has(r.output, "delivery=latest-frame-wins")) << r.output;
+      EXPECT_TRUE(has(r.output, "hfov 67.4")) << r.output;  // zoom 1.5 on 90 deg: 2 atan(tan(45)/1.5)
+    }
+    if (examples == 2) EXPECT_TRUE(has(r.output, "NOT_FOUND - no view named 'no_such_view'")) << r.output;
+  }
+  EXPECT_EQ(examples, 2);
 }
 
 }  // namespace
