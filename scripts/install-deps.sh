@@ -10,6 +10,7 @@ packages=(
   ccache libssl-dev openssl python3 python3-grpcio python3-protobuf
   libgtest-dev libgmock-dev libbenchmark-dev
   liburdfdom-dev liburdfdom-headers-dev libassimp-dev libosmesa6-dev
+  dpkg-dev systemd  # cpack -G DEB (dpkg-shlibdeps) and systemd-analyze verify: scripts/check-install.sh
 )
 
 missing=()
