@@ -94,6 +94,15 @@ TEST_F(Operator, StreamToAPipeEndsQuietlyWhenTheReaderCloses) {
   EXPECT_TRUE(has(r.output, "the reader closed the pipe")) << r.output;
 }
 
+// `omniview show` on a machine without a display says so and what to do instead.
+TEST_F(Operator, ShowWithoutADisplaySaysWhatToDoInstead) {
+  const auto r = run_process("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(OMNIVIEW_CLI) + " show front --server " +
+                             daemon_.address());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_TRUE(has(r.output, "no display to open a window on")) << r.output;
+  EXPECT_TRUE(has(r.output, "omniview stream front -o - | ffplay -f mjpeg -")) << r.output;
+}
+
 // A client learns the stream's rules from its first message's metadata (docs/API.md).
 TEST_F(Operator, StreamsSayTheirLimitsUpFront) {
   auto stub = make_stub(daemon_.address());
