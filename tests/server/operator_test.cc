@@ -174,7 +174,17 @@ double strongest_column_step(const cv::Mat& image) {
 
 TEST(OperatorViews, CreatedViewsBlendLikeTheConfigsViews) {
   TempDir dir;
-  DaemonProcess daemon(dir, example_config(20, kSideViews));
+  // The back lens exposed a quarter darker than the front one, as two real cameras differ:
+  // a hard seam shows it as a step, a blend spreads it over the feather width.
+  cv::Mat back = cv::imread(example_dir() + "/back.jpg", cv::IMREAD_UNCHANGED);
+  ASSERT_FALSE(back.empty());
+  back.convertTo(back, -1, 0.75);
+  const std::string darker_back = (dir.path() / "back_darker.png").string();
+  ASSERT_TRUE(cv::imwrite(darker_back, back));
+  std::string config = example_config(20, kSideViews);
+  const std::string original_back = example_dir() + "/back.jpg";
+  config.replace(config.find(original_back), original_back.size(), darker_back);
+  DaemonProcess daemon(dir, config);
   auto stub = make_stub(daemon.address());
   // Through the API with nothing but a name, a type, a size and a direction.
   v1::CreateViewRequest create;
@@ -199,10 +209,11 @@ TEST(OperatorViews, CreatedViewsBlendLikeTheConfigsViews) {
   ASSERT_FALSE(created.empty());
   EXPECT_EQ(cv::norm(created, blend, cv::NORM_INF), 0) << "a created view renders as the config's blended view";
   // Looking sideways, the two lenses meet in the middle of the view: the hard seam of the
-  // nearest rule is the strongest column step; blending leaves a smaller one.
+  // nearest rule is the strongest column step; blending spreads it out.
   const double seam_nearest = strongest_column_step(nearest), seam_blend = strongest_column_step(created);
-  std::cout << "strongest column step: nearest " << seam_nearest << ", blend " << seam_blend << "\n";
-  EXPECT_LT(seam_blend, seam_nearest);
+  std::cout << "strongest column step (mean grey levels): nearest " << seam_nearest << ", blend " << seam_blend
+            << "\n";
+  EXPECT_LT(seam_blend, 0.5 * seam_nearest);
 }
 
 TEST(OperatorViews, LowCoverageIsSaidByStatusWatchAndEveryFrame) {
