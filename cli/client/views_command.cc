@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cctype>
 #include <iostream>
+#include <map>
 
 #include "cli/client/client_commands.h"
 #include "cli/client/command_support.h"
@@ -165,14 +166,19 @@ int get(Connection& connection, const std::string& name) {
 
 // A view pointed where no camera looks is mostly black: say so now, not when someone
 // wonders at a black picture.
-void warn_on_low_coverage(Connection& connection, const std::vector<v1::ViewSpec>& created) {
+void warn_on_low_coverage(Connection& connection, const std::vector<v1::View>& created_views) {
+  std::vector<v1::ViewSpec> created;
+  for (const auto& v : created_views) created.push_back(v.spec());
   v1::Status status;
   grpc::ClientContext context;
   connection.prepare(context, true);
   if (!connection.stub().GetStatus(&context, v1::GetStatusRequest(), &status).ok()) return;  // the views exist
+  // Only once the view's source delivers: a robot not yet connected has no cameras.
+  std::map<std::string, bool> delivering;
+  for (const auto& s : status.sources()) delivering[s.name()] = s.connected() && s.frames() > 0;
   for (const auto& v : status.views()) {
     for (const auto& spec : created) {
-      if (v.name() != spec.name()) continue;
+      if (v.name() != spec.name() || !delivering[spec.source()]) continue;
       const std::string warning = low_coverage_warning(v.name(), v.coverage());
       if (!warning.empty()) std::cerr << "warning: " << warning << "\n";
     }
@@ -187,6 +193,7 @@ int create(Connection& connection, const Args& args) {
       throw UsageError("a view to create needs a name: add 'name:' to the file or --set name=NAME");
     }
   }
+  std::vector<v1::View> created;
   for (const auto& spec : specs) {
     v1::CreateViewRequest request;
     *request.mutable_spec() = spec;
@@ -198,8 +205,9 @@ int create(Connection& connection, const Args& args) {
               << view.spec().width() << "x" << view.spec().height() << ", "
               << (view.spec().fusion() == v1::NEAREST_CENTRE ? "nearest" : "blend") << ", revision "
               << view.revision() << ")\n";
+    created.push_back(view);
   }
-  warn_on_low_coverage(connection, specs);
+  warn_on_low_coverage(connection, created);
   return 0;
 }
 

@@ -103,6 +103,22 @@ TEST_F(Operator, ShowWithoutADisplaySaysWhatToDoInstead) {
   EXPECT_TRUE(has(r.output, "omniview stream front -o - | ffplay -f mjpeg -")) << r.output;
 }
 
+// `omniview cameras` gives each camera's field of view in degrees, as far as its lens sees.
+TEST_F(Operator, CamerasShowTheirFieldOfViewInDegrees) {
+  const auto r = cli("cameras");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(has(r.output, "FOV (deg)")) << r.output;
+  EXPECT_TRUE(has(r.output, "210 x 210")) << r.output;  // the example's 210 deg fisheyes
+  EXPECT_FALSE(has(r.output, "model ")) << r.output;
+  v1::ListCamerasResponse cameras;
+  ASSERT_TRUE(make_stub(daemon_.address())->ListCameras(make_context().get(), {}, &cameras).ok());
+  ASSERT_EQ(cameras.cameras_size(), 2);
+  for (const auto& c : cameras.cameras()) {
+    EXPECT_NEAR(c.hfov_deg(), 210, 0.5) << c.name();
+    EXPECT_NEAR(c.vfov_deg(), 210, 0.5) << c.name();
+  }
+}
+
 // A client learns the stream's rules from its first message's metadata (docs/API.md).
 TEST_F(Operator, StreamsSayTheirLimitsUpFront) {
   auto stub = make_stub(daemon_.address());

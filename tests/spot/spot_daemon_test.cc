@@ -570,7 +570,8 @@ TEST(SpotSource, JointsAreCurrentWithNobodyWatching) {
 }
 
 // The README's `views create` example for the demo's Spot shows what the left camera sees,
-// not a mostly black picture.
+// not a mostly black picture (the old example was 58 % black); the shipped views of
+// config/spot.yaml are covered too (the front view without its black notch at the top).
 TEST(SpotSource, TheReadmesCreatedViewIsCovered) {
   TempDir dir;
   const int port = free_port();
@@ -580,7 +581,7 @@ TEST(SpotSource, TheReadmesCreatedViewIsCovered) {
   ASSERT_TRUE(eventually([&] { return source_status(*stub).connected(); }, 10s)) << daemon.log();
   const auto r = run_process(std::string(OMNIVIEW_CLI) + " views create --file " + OMNIVIEW_SOURCE_DIR +
                              "/config/examples/views/front_perspective.yaml --set name=left --set frame=body"
-                             " --set xyz=0,0,0 --set yaw_deg=90 --set pitch_deg=40 --set hfov_deg=100"
+                             " --set xyz=0,0,0 --set yaw_deg=90 --set pitch_deg=35 --set hfov_deg=80"
                              " --set distance=1.5 --server " + daemon.address());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
@@ -588,7 +589,10 @@ TEST(SpotSource, TheReadmesCreatedViewIsCovered) {
   ASSERT_TRUE(stub->GetStatus(make_context().get(), v1::GetStatusRequest(), &st).ok());
   for (const auto& v : st.views()) {
     std::cout << "view " << v.name() << ": coverage " << v.coverage() << "\n";
-    if (v.name() == "left") EXPECT_GT(v.coverage(), 0.9);
+    if (v.name() == "left") EXPECT_GT(v.coverage(), 0.97);
+    if (v.name() == "front") EXPECT_GT(v.coverage(), 0.99);
+    if (v.name() == "panorama") EXPECT_GT(v.coverage(), 0.95);
+    if (v.name() == "birdseye") EXPECT_GT(v.coverage(), 0.85);
   }
 }
 
