@@ -27,9 +27,10 @@ talking to omniviewd:
   cameras   the cameras of the daemon's sources, with calibration and pose
   views     list, get, create, update or delete views (views --help)
   ptz       pan, tilt and zoom a view, absolutely or by steps
-  snapshot  save the next frame of a view (-o out.png|.jpg|.raw)
+  snapshot  save the next frame of a view (-o out.png|.jpg|.raw, or - for stdout)
   watch     live frame rate, latency, size and drops of a view
-  stream    save N frames of a view to a folder, with an index
+  show      a live window of a view, with keyboard pan, tilt and zoom
+  stream    save N frames of a view to a folder (or -o - : MJPEG to stdout)
   status    the daemon's sources, views and clients
   record    record what a source delivers, for the replay source
   joints    the robot overlay's joint positions: show them, or set them
@@ -50,7 +51,8 @@ const std::map<std::string, Command>& commands() {
       {"render", cli::render_command}, {"cameras", cli::cameras_command},   {"views", cli::views_command},
       {"ptz", cli::ptz_command},       {"snapshot", cli::snapshot_command}, {"watch", cli::watch_command},
       {"stream", cli::stream_command}, {"status", cli::status_command},     {"record", cli::record_command},
-      {"joints", cli::joints_command},  {"colorize", cli::colorize_command}};
+      {"joints", cli::joints_command},  {"colorize", cli::colorize_command},
+      {"show", cli::show_command}};
   return table;
 }
 

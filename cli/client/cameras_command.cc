@@ -10,8 +10,9 @@ namespace {
 
 const std::string kHelp = std::string(R"(usage: omniview cameras [--source NAME] [--details]
 
-Lists the cameras of omniviewd's sources: model, image size, field of view and position
-in the robot frame.
+Lists the cameras of omniviewd's sources: model, image size, field of view (degrees,
+horizontal x vertical through the image centre, as far as the lens and mask let the camera
+see) and position in the robot frame.
 
   --source NAME   only this source's cameras
   --details       also intrinsics, distortion and the full pose (quaternion w x y z)
@@ -55,12 +56,12 @@ int cameras_command(const std::vector<std::string>& argv) {
     }
     return 1;
   }
-  Table table({"CAMERA", "SOURCE", "MODEL", "SIZE", "FOV", "FRAME", "POSITION (m)", "MASK"});
+  Table table({"CAMERA", "SOURCE", "MODEL", "SIZE", "FOV (deg)", "FRAME", "POSITION (m)", "MASK"});
   for (const auto& c : response.cameras()) {
     const auto& t = c.pose().translation();
     table.add({c.name(), c.source(), c.camera_model() + "/" + c.distortion_model(),
                std::to_string(c.width()) + "x" + std::to_string(c.height()),
-               c.fov_deg() > 0 ? fixed(c.fov_deg(), 1) : "model", c.frame(),
+               fixed(c.hfov_deg(), 0) + " x " + fixed(c.vfov_deg(), 0), c.frame(),
                fixed(t.x(), 3) + " " + fixed(t.y(), 3) + " " + fixed(t.z(), 3), c.has_mask() ? "yes" : "no"});
   }
   table.print(std::cout);

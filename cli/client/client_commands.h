@@ -16,5 +16,6 @@ int stream_command(const std::vector<std::string>& args);
 int status_command(const std::vector<std::string>& args);
 int record_command(const std::vector<std::string>& args);
 int joints_command(const std::vector<std::string>& args);
+int show_command(const std::vector<std::string>& args);
 
 }  // namespace omniview::cli

@@ -155,4 +155,11 @@ void StreamStopper::run(double duration_s) {
   }
 }
 
+std::string low_coverage_warning(const std::string& view, double coverage) {
+  if (coverage >= kLowCoverage) return "";
+  return "view '" + view + "' shows only " + fixed(coverage * 100, 0) +
+         " % of its pixels from the cameras; the rest is black: point it where the cameras look "
+         "('omniview cameras' lists their poses and fields of view)";
+}
+
 }  // namespace omniview::cli

@@ -52,6 +52,13 @@ double now_seconds();  // since the Unix epoch, for latencies against capture ti
 // stderr as "note: ...". Call once the first frame arrived (the metadata came with it).
 void print_stream_note(const grpc::ClientContext& context);
 
+// Below this fraction of its pixels seen by some camera, a view is mostly black: `status`
+// and `watch` say so (coverage comes with every frame and in the status).
+inline constexpr double kLowCoverage = 0.5;
+// "view 'left' shows only 38 % of its pixels from the cameras; the rest is black: ..."
+// for a coverage below kLowCoverage, else "".
+std::string low_coverage_warning(const std::string& view, double coverage);
+
 // Cancels a streaming call when the user presses Ctrl-C, when `duration_s` (> 0) has
 // passed, or on stop(), so a command can end cleanly and print its summary. A second
 // Ctrl-C kills the process as usual.

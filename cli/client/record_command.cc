@@ -110,6 +110,9 @@ int record_command(const std::vector<std::string>& argv) {
     std::vector<RecordedImage> images;
     for (const auto& image : frame.images()) images.push_back(to_recorded(image));
     if (!writer) writer.emplace(folder.string(), source);
+    if (!frame.joint_positions().empty()) {
+      writer->set_next_joints({frame.joint_positions().begin(), frame.joint_positions().end()});
+    }
     writer->write(frame.sequence(), to_time_point(frame.capture_time()), *rig, images);
     ++written;
     skipped = frame.skipped();

@@ -1,5 +1,6 @@
 // `omniview status`: the daemon's sources, views and clients.
 #include <iostream>
+#include <map>
 
 #include "cli/client/client_commands.h"
 #include "cli/client/command_support.h"
@@ -60,6 +61,23 @@ int status_command(const std::vector<std::string>& argv) {
                  fixed(v.coverage() * 100, 1) + "%", fixed(v.last_latency_ms(), 1) + " ms"});
     }
     views.print(std::cout, "  ");
+    // A view's coverage means something once its source has delivered (a robot not yet
+    // connected has no cameras: every view would read 0 %).
+    std::map<std::string, bool> delivering;  // source -> connected and has delivered
+    for (const auto& s : status.sources()) delivering[s.name()] = s.connected() && s.frames() > 0;
+    std::map<std::string, std::string> source_of;  // view -> source
+    v1::ListViewsResponse listed;
+    grpc::ClientContext list_context;
+    connection.prepare(list_context, true);
+    if (connection.stub().ListViews(&list_context, v1::ListViewsRequest(), &listed).ok()) {
+      for (const auto& v : listed.views()) source_of[v.spec().name()] = v.spec().source();
+    }
+    for (const auto& v : status.views()) {
+      const auto source = source_of.find(v.name());
+      if (source != source_of.end() && !delivering[source->second]) continue;
+      const std::string warning = low_coverage_warning(v.name(), v.coverage());
+      if (!warning.empty()) std::cout << "  warning: " << warning << "\n";
+    }
   }
 
   std::cout << "\nclients:\n";

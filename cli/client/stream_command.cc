@@ -1,4 +1,7 @@
-// `omniview stream VIEW --frames N -o DIR`: frames of a view saved as files, with an index.
+// `omniview stream VIEW --frames N -o DIR`: frames of a view saved as files, with an index;
+// `-o -`: the frames one after another on stdout (concatenated JPEGs are MJPEG for a pipe).
+#include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -15,13 +18,20 @@ namespace {
 
 const std::string kHelp =
     std::string(R"(usage: omniview stream VIEW --frames N -o DIR [--encoding E] [--rate HZ] [--gray]
+       omniview stream VIEW -o - [--frames N] | ffplay -f mjpeg -
 
 Saves N frames of a view as DIR/frame_000001.jpg, ... (the daemon's encoded bytes) and
 DIR/frames.csv: file, sequence, capture time (UTC), latency (ms), size, view revision.
 Ctrl-C stops early and keeps what was written.
 
-  --frames N         how many frames
-  -o, --output DIR   the folder (created if missing; one with files in it is refused)
+With -o - the frames go to stdout one after another, nothing between them: JPEG frames
+make an MJPEG stream that `ffplay -f mjpeg -`, `mpv -` or `ffmpeg -f mjpeg -i -` read
+(PNG frames: `ffplay -f png_pipe -`; raw frames have no framing and are refused). It runs
+until --frames N, Ctrl-C or the reader closes the pipe; messages go to stderr.
+
+  --frames N         how many frames (optional with -o -)
+  -o, --output DIR   the folder (created if missing; one with files in it is refused),
+                     or - for stdout
   --force            write into a folder that has files, replacing its frames.csv and
                      frame_*.* files
 )") +
@@ -31,6 +41,46 @@ std::string frame_file_name(uint64_t index, v1::Encoding encoding) {
   std::ostringstream name;
   name << "frame_" << std::setw(6) << std::setfill('0') << index << "." << extension_for(encoding);
   return name.str();
+}
+
+// Frames to stdout: each frame's bytes as sent, flushed at once so a player shows it now.
+int stream_to_stdout(const Args& args, int wanted) {
+  const auto request = stream_request(args, args.positional()[0], v1::JPEG);
+  if (request.encoding() == v1::RAW) {
+    throw UsageError("-o -: raw frames have no framing in a pipe; use --encoding jpg (MJPEG) or png");
+  }
+  // A reader that goes away (the player's window closed) ends the stream quietly: a write
+  // error instead of SIGPIPE.
+  std::signal(SIGPIPE, SIG_IGN);
+  Connection connection(connection_options(args));
+  grpc::ClientContext context;
+  connection.prepare(context, false);
+  StreamStopper stopper(context, 0);
+  auto reader = connection.stub().StreamFrames(&context, request);
+  v1::Frame frame;
+  int written = 0;
+  bool reader_gone = false;
+  while ((wanted == 0 || written < wanted) && reader->Read(&frame)) {
+    if (written == 0) print_stream_note(context);
+    const std::string& data = frame.data();
+    if (std::fwrite(data.data(), 1, data.size(), stdout) != data.size() || std::fflush(stdout) != 0) {
+      reader_gone = true;
+      break;
+    }
+    ++written;
+  }
+  if (reader_gone || (wanted > 0 && written == wanted)) stopper.stop();
+  const grpc::Status status = reader->Finish();
+  const bool failed = !status.ok() && !(stopper.stopped() && status.error_code() == grpc::StatusCode::CANCELLED);
+  if (written > 0 || !failed) {
+    std::cerr << "wrote " << written << " frame" << (written == 1 ? "" : "s") << " to stdout";
+    if (reader_gone) std::cerr << " (the reader closed the pipe)";
+    std::cerr << "\n";
+  }
+  if (failed) connection.check(status, "view '" + request.view() + "'");
+  if (reader_gone) return 0;
+  if (wanted > 0 && written < wanted) return stopper.interrupted() ? 130 : 1;
+  return stopper.interrupted() ? 130 : 0;
 }
 
 }  // namespace
@@ -43,6 +93,9 @@ int stream_command(const std::vector<std::string>& argv) {
   const auto args = parse_command_args(argv, switches, flags, kHelp);
   if (!args) return 0;
   expect_positional(*args, 1, "VIEW");
+  if (args->has("output") && args->get("output") == "-") {
+    return stream_to_stdout(*args, args->has("frames") ? parse_count(args->get("frames"), "--frames") : 0);
+  }
   const int wanted = parse_count(args->required("frames"), "--frames");
   const std::filesystem::path folder = args->required("output");
   // Another run's frames.csv would be replaced and its frames mixed with these.

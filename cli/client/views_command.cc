@@ -2,11 +2,13 @@
 #include <algorithm>
 #include <cctype>
 #include <iostream>
+#include <map>
 
 #include "cli/client/client_commands.h"
 #include "cli/client/command_support.h"
 #include "cli/client/connection.h"
 #include "cli/client/view_spec_proto.h"
+#include "cli/client/views_save.h"
 #include "core/io/yaml_reader.h"
 #include "core/view/view_spec.h"
 
@@ -19,6 +21,7 @@ const std::string kHelp = std::string(R"(usage: omniview views list
        omniview views create --set name=NAME --set type=TYPE [--set KEY=VALUE ...]
        omniview views update [VIEW] [--file VIEW.yaml] [--set KEY=VALUE ...]
        omniview views delete VIEW [VIEW ...]
+       omniview views save FILE.yaml
 
 Manages omniviewd's views (create, update and delete need an operator token).
 
@@ -29,6 +32,9 @@ Manages omniviewd's views (create, update and delete need an operator token).
   update    change only the keys the file or --set give; with a file and no VIEW, each
             view in the file updates the view of its name; 'name' in --set renames
   delete    remove views
+  save      every current view into FILE.yaml (replaced if it exists), which the daemon
+            loads at start with 'views_file: FILE.yaml' in its config: views created or
+            changed at run time survive a restart
 
   --file FILE        a view YAML file, the schema of 'omniview render --view' and the
                      daemon config's 'views:'
@@ -158,6 +164,27 @@ int get(Connection& connection, const std::string& name) {
   return 0;
 }
 
+// A view pointed where no camera looks is mostly black: say so now, not when someone
+// wonders at a black picture.
+void warn_on_low_coverage(Connection& connection, const std::vector<v1::View>& created_views) {
+  std::vector<v1::ViewSpec> created;
+  for (const auto& v : created_views) created.push_back(v.spec());
+  v1::Status status;
+  grpc::ClientContext context;
+  connection.prepare(context, true);
+  if (!connection.stub().GetStatus(&context, v1::GetStatusRequest(), &status).ok()) return;  // the views exist
+  // Only once the view's source delivers: a robot not yet connected has no cameras.
+  std::map<std::string, bool> delivering;
+  for (const auto& s : status.sources()) delivering[s.name()] = s.connected() && s.frames() > 0;
+  for (const auto& v : status.views()) {
+    for (const auto& spec : created) {
+      if (v.name() != spec.name() || !delivering[spec.source()]) continue;
+      const std::string warning = low_coverage_warning(v.name(), v.coverage());
+      if (!warning.empty()) std::cerr << "warning: " << warning << "\n";
+    }
+  }
+}
+
 int create(Connection& connection, const Args& args) {
   if (!args.has("file") && args.all("set").empty()) throw UsageError("create needs --file VIEW.yaml or --set keys");
   const auto specs = specs_from_args(args);
@@ -166,6 +193,7 @@ int create(Connection& connection, const Args& args) {
       throw UsageError("a view to create needs a name: add 'name:' to the file or --set name=NAME");
     }
   }
+  std::vector<v1::View> created;
   for (const auto& spec : specs) {
     v1::CreateViewRequest request;
     *request.mutable_spec() = spec;
@@ -174,8 +202,12 @@ int create(Connection& connection, const Args& args) {
     connection.prepare(context, true);
     connection.check(connection.stub().CreateView(&context, request, &view), view_label(spec.name()));
     std::cout << "created view '" << view.spec().name() << "' (" << type_name(view.spec()) << ", "
-              << view.spec().width() << "x" << view.spec().height() << ", revision " << view.revision() << ")\n";
+              << view.spec().width() << "x" << view.spec().height() << ", "
+              << (view.spec().fusion() == v1::NEAREST_CENTRE ? "nearest" : "blend") << ", revision "
+              << view.revision() << ")\n";
+    created.push_back(view);
   }
+  warn_on_low_coverage(connection, created);
   return 0;
 }
 
@@ -231,24 +263,30 @@ int views_command(const std::vector<std::string>& argv) {
   const auto args = parse_command_args(argv, {}, {"file", "set"}, kHelp);
   if (!args) return 0;
   const auto& positional = args->positional();
-  if (positional.empty()) throw UsageError("missing subcommand: list, get, create, update or delete (see --help)");
+  if (positional.empty()) throw UsageError("missing subcommand: list, get, create, update, delete or save (see --help)");
   const std::string& sub = positional[0];
   const bool edits = sub == "create" || sub == "update";
   if (!edits && (args->has("file") || args->has("set"))) {
     throw UsageError("--file and --set belong to 'views create' and 'views update'");
   }
-  if (sub != "list" && sub != "get" && !edits && sub != "delete") {
-    throw UsageError("unknown subcommand '" + sub + "': list, get, create, update or delete");
+  if (sub != "list" && sub != "get" && !edits && sub != "delete" && sub != "save") {
+    throw UsageError("unknown subcommand '" + sub + "': list, get, create, update, delete or save");
   }
   if (sub == "list") expect_positional(*args, 1, "");
   if (sub == "get") expect_positional(*args, 2, "VIEW");
   if (sub == "create") expect_positional(*args, 1, "");
+  if (sub == "save") expect_positional(*args, 2, "FILE.yaml");
 
   Connection connection(connection_options(*args));
   if (sub == "list") return list(connection);
   if (sub == "get") return get(connection, positional[1]);
   if (sub == "create") return create(connection, *args);
   if (sub == "update") return update(connection, *args);
+  if (sub == "save") {
+    const int saved = save_views(connection, positional[1]);
+    std::cout << "saved " << saved << " view" << (saved == 1 ? "" : "s") << " to " << positional[1] << "\n";
+    return 0;
+  }
   return remove(connection, *args);
 }
 

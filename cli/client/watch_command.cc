@@ -96,7 +96,15 @@ int watch_command(const std::vector<std::string>& argv) {
       skipped_total += frame.sequence() - last_sequence - 1;
     }
     last_sequence = frame.sequence();
-    if (frames_total == 0) print_stream_note(context);
+    if (frames_total == 0 || frame.camera().revision() != last.camera().revision()) {
+      if (frames_total == 0) print_stream_note(context);
+      // Once per view revision: a ptz step can turn a view toward what no camera sees.
+      const std::string warning = low_coverage_warning(request.view(), frame.coverage());
+      if (!warning.empty()) {
+        std::lock_guard lock(output);
+        std::cerr << (tty ? "\r\033[K" : "") << "warning: " << warning << "\n" << std::flush;
+      }
+    }
     ++frames_total;
     ++window.frames;
     window.latencies_ms.push_back(frame.latency_ms());

@@ -2,7 +2,7 @@
 //
 // A std::variant rather than a virtual base: the map builder visits the variant once per
 // camera and then runs a loop specialised to that model, so the projection inlines and
-// vectorises. Names and parameter orders are kalibr's (DESIGN.md, "Camera models").
+// vectorises. Names and parameter orders are kalibr's (README, "Rendering views offline").
 #pragma once
 
 #include <string>

@@ -1,4 +1,4 @@
-// Rigid transforms and the angle conventions of the API (DESIGN.md, "Conventions").
+// Rigid transforms and the angle conventions of the API (README, "Conventions").
 //
 // T_A_B is the pose of frame B in frame A: p_A = T_A_B * p_B.
 // Orientation as yaw, pitch, roll (radians here; degrees only at the API edge) with

@@ -61,6 +61,10 @@ ViewSpec default_view_spec(ViewType type) {
   s.type = type;
   if (type == ViewType::kMercator) s.lat_min_deg = -80, s.lat_max_deg = 80;
   if (type == ViewType::kBirdseye) s.pitch_deg = 90;  // straight down, forward at the top
+  // Feathered blending where cameras overlap, for config views and views created through
+  // the API alike: a hard seam is the first thing an operator notices. (A bare ViewSpec{}
+  // keeps the paper's nearest-centre rule, which the map benchmarks measure.)
+  s.fusion = Fusion::kBlend;
   return s;
 }
 

@@ -1,7 +1,7 @@
 // What a user asks for: one view's type, size, pose and surface parameters.
 //
 // Angles are stored in degrees, as the API and YAML files give them; the View classes
-// convert once. Field meanings follow DESIGN.md ("Views", "Conventions").
+// convert once. Field meanings follow the README ("Conventions") and config/examples/views/.
 #pragma once
 
 #include <string>

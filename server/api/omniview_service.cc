@@ -46,6 +46,7 @@ v1::SourceFrame to_source_frame(const FrameSet& frames, uint64_t skipped_before,
   *out.mutable_capture_time() = google::protobuf::util::TimeUtil::NanosecondsToTimestamp(
       std::chrono::duration_cast<std::chrono::nanoseconds>(frames.capture_time.time_since_epoch()).count());
   if (with_rig) out.set_rig_yaml(rig_to_yaml(*frames.rig));
+  if (frames.joints) out.mutable_joint_positions()->insert(frames.joints->begin(), frames.joints->end());
   const auto& cams = frames.rig->cameras();
   for (size_t i = 0; i < frames.images.size() && i < cams.size(); ++i) {
     const cv::Mat& img = frames.images[i];
@@ -182,6 +183,12 @@ grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::S
     std::ostringstream served;
     served << rate;
     ctx->AddInitialMetadata("omniview-max-rate-hz", served.str());
+    // The rules of this stream, said to the client up front (docs/API.md, "Streams").
+    ctx->AddInitialMetadata("omniview-stream-limits",
+                            "delivery=latest-frame-wins; max_rate_hz=" + served.str() +
+                                "; max_streams_per_connection=" + std::to_string(limits_.max_streams_per_client) +
+                                "; max_streams=" + std::to_string(limits_.max_streams) +
+                                "; max_message_bytes=" + std::to_string(limits_.max_message_bytes));
     if (req->max_rate_hz() > limits_.max_rate_hz) {
       std::ostringstream text;
       text << "max_rate_hz " << req->max_rate_hz() << " capped to " << rate << " Hz (the daemon's limits.max_rate_hz)";
@@ -299,6 +306,11 @@ grpc::Status OmniviewService::StreamSourceFrames(grpc::ServerContext* ctx, const
                                                  grpc::ServerWriter<v1::SourceFrame>* writer) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
   return guarded([&] {
+    ctx->AddInitialMetadata("omniview-stream-limits",
+                            "delivery=queued; record_queue_frame_sets=" +
+                                std::to_string(limits_.record_queue_frame_sets) +
+                                "; max_streams_per_connection=" + std::to_string(limits_.max_streams_per_client) +
+                                "; max_streams=" + std::to_string(limits_.max_streams));
     StreamSlot slot(*this, ctx->peer());
     if (auto s = slot.acquire(); !s.ok()) return s;
     const std::string source = req->source();

@@ -1,4 +1,4 @@
-// Bearer tokens with two roles (DESIGN.md "Security"): each call sends
+// Bearer tokens with two roles (docs/API.md, "Connecting and roles"): each call sends
 // `authorization: Bearer <token>`; a viewer token may stream and read, an operator token
 // may also create, update and delete views. With no tokens configured every caller is an
 // operator (the config only allows that on loopback, or with allow_insecure_remote).

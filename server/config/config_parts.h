@@ -21,6 +21,12 @@ std::vector<SourceEntry> parse_sources(const YamlReader& reader, const YAML::Nod
 std::vector<ViewSpec> parse_daemon_views(const YamlReader& reader, const YAML::Node& node,
                                          const std::vector<SourceEntry>& sources, const Limits& limits);
 
+// Reads `file` (a `views:` list, as `omniview views save` writes it) if it exists and lays
+// its views over `views`: a view of the same name is replaced, others are added. Errors
+// name `file` and its line; the total must stay within limits.max_views.
+void apply_views_file(const YamlReader& config_reader, const YAML::Node& node, const std::string& file,
+                      const std::vector<SourceEntry>& sources, const Limits& limits, std::vector<ViewSpec>& views);
+
 std::vector<RobotModelEntry> parse_robot_models(const YamlReader& reader, const YAML::Node& node,
                                                 const std::vector<SourceEntry>& sources, const std::string& folder);
 

@@ -49,7 +49,7 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   const YAML::Node root = r.root();
   if (!root.IsMap()) r.fail(root, "", "expected a map with listen, sources, views, ...");
   r.expect_keys(root, "", {"listen", "tls", "tokens", "allow_insecure_remote", "limits", "sources", "views",
-                          "robot_models"});
+                          "robot_models", "views_file"});
 
   DaemonConfig config;
   config.file = r.file();
@@ -67,6 +67,10 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   config.limits = parse_limits(r, root["limits"]);
   config.sources = parse_sources(r, root["sources"]);
   config.views = parse_daemon_views(r, root["views"], config.sources, config.limits);
+  if (const YAML::Node views_file = root["views_file"]) {
+    config.views_file = resolve_config_path(folder, r.text(views_file, "views_file"));
+    apply_views_file(r, views_file, config.views_file, config.sources, config.limits, config.views);
+  }
   config.robot_models = parse_robot_models(r, root["robot_models"], config.sources, folder);
   check_exposure(r, config);
   return config;

@@ -12,6 +12,7 @@
 //     - {name: examples, type: images, ...}          # the type's own keys, see source types
 //   views:                                            # the view YAML schema, plus `source`
 //     - {name: front, type: perspective, ...}
+//   views_file: saved_views.yaml                      # optional: `omniview views save` output
 //   robot_models:                                     # optional: the robot drawn into views
 //     - {source: spot, urdf: robot.urdf, mesh_path: [meshes], frame: body, joints: {...}}
 //
@@ -89,6 +90,9 @@ struct DaemonConfig {
   std::vector<ViewSpec> views;       // each view's `source` is set (defaults to the first source)
   std::vector<RobotModelEntry> robot_models;
   std::shared_ptr<const YamlReader> reader;  // keeps the nodes above readable, for errors
+  // `views_file:` (resolved; empty: none): views saved with `omniview views save`, loaded
+  // over `views` at start (same name: the file's wins). A file not there yet is no error.
+  std::string views_file;
 };
 
 // Loads and checks a config file: keys, types, files that must exist, roles, limits, view

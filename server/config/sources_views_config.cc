@@ -1,5 +1,7 @@
 // `sources:` and `views:`. Sources are only recorded here (name, type, their YAML): the
 // daemon builds them through the source registry, whose factories read the type's own keys.
+#include <algorithm>
+#include <filesystem>
 #include <map>
 
 #include "core/view/view_yaml.h"
@@ -67,6 +69,31 @@ std::vector<ViewSpec> parse_daemon_views(const YamlReader& r, const YAML::Node& 
     views.push_back(std::move(view));
   }
   return views;
+}
+
+void apply_views_file(const YamlReader& config_reader, const YAML::Node& node, const std::string& file,
+                      const std::vector<SourceEntry>& sources, const Limits& limits, std::vector<ViewSpec>& views) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) return;  // nothing saved yet
+  if (std::filesystem::is_directory(file, ec)) config_reader.fail(node, "views_file", "'" + file + "' is a folder");
+  const YamlReader r = YamlReader::from_file(file);
+  const YAML::Node& root = r.root();
+  if (root.IsNull()) return;  // an empty file: no views
+  if (!root.IsMap()) r.fail(root, "", "expected a map with 'views:' (as 'omniview views save' writes it)");
+  r.expect_keys(root, "", {"views"});
+  for (ViewSpec& saved : parse_daemon_views(r, root["views"], sources, limits)) {
+    const auto same = std::find_if(views.begin(), views.end(), [&](const ViewSpec& v) { return v.name == saved.name; });
+    if (same != views.end()) {
+      *same = std::move(saved);
+    } else {
+      views.push_back(std::move(saved));
+    }
+  }
+  if (views.size() > static_cast<size_t>(limits.max_views)) {
+    config_reader.fail(node, "views_file",
+                       "'views' and '" + file + "' together hold " + std::to_string(views.size()) +
+                           " views, more than limits.max_views (" + std::to_string(limits.max_views) + ")");
+  }
 }
 
 }  // namespace omniview::config_parts

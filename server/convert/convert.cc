@@ -212,6 +212,34 @@ std::vector<double> pinhole_intrinsics(const View& view) {
   return {pinhole->focal(), pinhole->focal(), pinhole->cx(), pinhole->cy()};
 }
 
+namespace {
+
+// What a camera images along the line through its image centre (`horizontal`: the middle
+// row, else the middle column): the off-axis angles of the outermost usable pixels on each
+// side, added, so a 210 deg fisheye whose circle fits the image says 210. Usable: the model
+// has a ray there, within the lens' fov_deg, inside the mask.
+double imaged_angle_deg(const Camera& c, bool horizontal) {
+  const double cu = (c.width - 1) / 2.0, cv = (c.height - 1) / 2.0;
+  const double limit = c.fov_deg > 0 ? c.fov_deg / 2 * M_PI / 180 : M_PI;
+  const int n = horizontal ? c.width : c.height;
+  double before = 0, after = 0;  // the largest off-axis angle left/above and right/below of the centre
+  for (int i = 0; i < n; ++i) {
+    const double u = horizontal ? i : cu, v = horizontal ? cv : i;
+    Eigen::Vector3d ray;
+    if (!unproject(c.model, Eigen::Vector2d(u, v), ray)) continue;
+    if (!c.mask.empty() && c.mask.at<uint8_t>(static_cast<int>(std::lround(v)), static_cast<int>(std::lround(u))) <= 127) {
+      continue;
+    }
+    const double theta = std::atan2(std::hypot(ray.x(), ray.y()), ray.z());
+    if (!(theta <= limit)) continue;
+    double& side = (horizontal ? u < cu : v < cv) ? before : after;
+    side = std::max(side, theta);
+  }
+  return (before + after) * 180 / M_PI;
+}
+
+}  // namespace
+
 v1::Camera to_proto(const Camera& c, const Rig& rig, const std::string& source) {
   v1::Camera p;
   p.set_name(c.name);
@@ -225,6 +253,8 @@ v1::Camera to_proto(const Camera& c, const Rig& rig, const std::string& source) 
   p.set_height(c.height);
   p.set_fov_deg(c.fov_deg);
   p.set_has_mask(!c.mask.empty());
+  p.set_hfov_deg(imaged_angle_deg(c, true));
+  p.set_vfov_deg(imaged_angle_deg(c, false));
   p.set_frame(rig.default_frame());
   const auto& cams = rig.cameras();
   for (size_t i = 0; i < cams.size(); ++i) {

@@ -65,7 +65,11 @@ v1::JointPositions Pipeline::set_joint_positions(const std::string& source, cons
 }
 
 v1::JointPositions Pipeline::joint_positions(const std::string& source) const {
-  return robot_joints(source).describe(channel(source).source().name());
+  RobotJoints& joints = robot_joints(source);
+  const Source& s = channel(source).source();
+  // The source's newest report, not only the last frame's: nobody may be watching.
+  if (auto live = s.latest_joints()) joints.effective(live);
+  return joints.describe(s.name());
 }
 
 void Pipeline::start() {

@@ -7,10 +7,13 @@
 //   frames.csv       one line per frame set, appended as it is written, so a recording cut
 //                    short (killed, disk full) stays readable up to its last complete line
 //   images/          one file per camera image, as delivered (JPEG bytes kept) or PNG
+//   joints.csv       optional: the robot's joint positions the source reported with each
+//                    frame set (for the robot overlay of a replay)
 #pragma once
 
 #include <chrono>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,6 +46,9 @@ class RecordingWriter {
              const std::vector<RecordedImage>& images);
   // Convenience for a FrameSet: keeps the source's encoded bytes, PNG-encodes the rest.
   void write(const FrameSet& frames);
+  // The joint positions (name -> rad, or m) that go with the next write(): written to
+  // joints.csv before that frame set's frames.csv line.
+  void set_next_joints(std::map<std::string, double> joints);
 
   size_t frames_written() const;
   void close();  // flushes; also done by the destructor
@@ -57,6 +63,8 @@ struct RecordingFrame {
   std::chrono::system_clock::time_point capture_time;
   size_t rig_index = 0;                 // into Recording::rigs
   std::vector<std::string> image_files;  // per camera (rig order); empty: absent
+  // The robot's joint positions as recorded with this frame set; null: none recorded.
+  std::shared_ptr<const std::map<std::string, double>> joints;
 };
 
 // Reads the index (not the images). Throws ConfigError naming the file and line for a
@@ -90,6 +98,12 @@ struct RecordingIndex {
 // short) is ignored.
 RecordingIndex parse_recording_index(const std::string& recording_yaml, const std::string& frames_csv,
                                      const std::string& folder);
+
+// Adds joints.csv's positions (header "frame,joint,position", then one line per frame
+// index, joint and position) to `frames`; `file` names it in messages. Throws ConfigError
+// naming file and line. A last line without its newline is ignored.
+void parse_recording_joints(const std::string& joints_csv, const std::string& file,
+                            std::vector<RecordingFrame>& frames);
 
 // "rig.yaml" for the first rig, "rig_<n>.yaml" for later ones.
 std::string recording_rig_file(size_t index);

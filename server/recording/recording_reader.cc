@@ -1,6 +1,7 @@
 // Reading a recording: the index (recording.yaml, frames.csv), its rigs and images.
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -134,6 +135,42 @@ RecordingIndex parse_recording_index(const std::string& recording_yaml, const st
   return index;
 }
 
+void parse_recording_joints(const std::string& joints_csv, const std::string& file,
+                            std::vector<RecordingFrame>& frames) {
+  std::vector<std::map<std::string, double>> joints(frames.size());
+  size_t line_number = 0;
+  const auto fail = [&](const std::string& message) {
+    throw ConfigError(file + ":" + std::to_string(line_number) + ": " + message);
+  };
+  size_t start = 0;
+  for (size_t end; (end = joints_csv.find('\n', start)) != std::string::npos; start = end + 1) {
+    ++line_number;
+    std::string line = joints_csv.substr(start, end - start);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line_number == 1) {
+      if (line != "frame,joint,position") fail("header must read 'frame,joint,position'");
+      continue;
+    }
+    const auto fields = split_csv_line(line);
+    if (fields.size() != 3) fail("expected 3 fields (frame, joint, position), got " + std::to_string(fields.size()));
+    size_t frame = 0;
+    if (!parse_integer(fields[0], frame)) fail("frame '" + fields[0] + "' is not a number");
+    if (fields[1].empty()) fail("empty joint name");
+    double position = 0;
+    const char* text_end = fields[2].data() + fields[2].size();
+    const auto parsed = std::from_chars(fields[2].data(), text_end, position);
+    if (fields[2].empty() || parsed.ec != std::errc() || parsed.ptr != text_end || !std::isfinite(position)) {
+      fail("position '" + fields[2] + "' is not a finite number");
+    }
+    // Joints of a frame whose frames.csv line was cut short: nothing to attach them to.
+    if (frame >= frames.size()) continue;
+    joints[frame][fields[1]] = position;
+  }
+  for (size_t i = 0; i < frames.size(); ++i) {
+    if (!joints[i].empty()) frames[i].joints = std::make_shared<const std::map<std::string, double>>(std::move(joints[i]));
+  }
+}
+
 Recording Recording::open(const std::string& folder) {
   const fs::path dir(folder);
   if (!fs::is_directory(dir)) throw ConfigError(folder + ": no such recording folder");
@@ -144,6 +181,9 @@ Recording Recording::open(const std::string& folder) {
   recording.source_name = std::move(index.source_name);
   recording.camera_names = std::move(index.camera_names);
   recording.frames = std::move(index.frames);
+  if (fs::exists(dir / "joints.csv")) {
+    parse_recording_joints(read_text_file(dir / "joints.csv"), (dir / "joints.csv").string(), recording.frames);
+  }
   for (size_t i = 0; i < index.rig_count; ++i) {
     const std::string rig_path = (dir / recording_rig_file(i)).string();
     auto rig = std::make_shared<Rig>(load_rig_yaml(rig_path));

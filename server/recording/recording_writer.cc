@@ -8,6 +8,10 @@
 //                   frame set: sequence, capture time (ns since the Unix epoch), rig index,
 //                   and per camera its image file relative to the folder (empty: absent)
 //   images/         <frame number>_<camera index>.jpg|.png
+//   joints.csv      optional, header "frame,joint,position", then per frame set that has
+//                   joint positions one line per joint: frame number (0-based, the line of
+//                   frames.csv after its header), joint name, position (rad or m); written
+//                   before the frame's frames.csv line (older recordings have none)
 //
 // Each frame's images and rig are written before its frames.csv line, and the line is
 // flushed at once: every complete line refers only to files already on disk.
@@ -15,6 +19,7 @@
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 
@@ -32,6 +37,8 @@ struct RecordingWriter::Impl {
   std::string created;
   std::mutex mutex;
   std::ofstream csv;
+  std::ofstream joints_csv;  // opened with the first joints
+  std::map<std::string, double> next_joints;
   std::vector<std::string> camera_names;  // fixed by the first rig
   std::string last_rig_yaml;
   size_t rig_count = 0;
@@ -40,7 +47,31 @@ struct RecordingWriter::Impl {
 
   void start(const Rig& rig);
   size_t rig_index_for(const Rig& rig);
+  void write_joints();
 };
+
+void RecordingWriter::Impl::write_joints() {
+  const fs::path path = folder / "joints.csv";
+  if (!joints_csv.is_open()) {
+    joints_csv.open(path, std::ios::binary | std::ios::trunc);
+    joints_csv << "frame,joint,position\n";
+  }
+  joints_csv.precision(17);
+  for (const auto& [name, position] : next_joints) {
+    if (name.find_first_of(",\r\n") != std::string::npos) {
+      throw std::invalid_argument("recording: joint name '" + name + "' cannot go in joints.csv (',' or newline)");
+    }
+    joints_csv << frames << ',' << name << ',' << position << '\n';
+  }
+  joints_csv.flush();
+  if (!joints_csv) throw std::runtime_error("cannot append to '" + path.string() + "'");
+  next_joints.clear();
+}
+
+void RecordingWriter::set_next_joints(std::map<std::string, double> joints) {
+  std::lock_guard lock(impl_->mutex);
+  impl_->next_joints = std::move(joints);
+}
 
 namespace {
 
@@ -141,6 +172,7 @@ void RecordingWriter::write(uint64_t sequence, std::chrono::system_clock::time_p
     files[cam] = "images/" + std::to_string(impl_->frames) + "_" + std::to_string(cam) + extension_of(image.format);
     write_file(impl_->folder / files[cam], image.bytes.data(), image.bytes.size());
   }
+  if (!impl_->next_joints.empty()) impl_->write_joints();
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(capture_time.time_since_epoch()).count();
   impl_->csv << sequence << ',' << ns << ',' << rig_index;
   for (const auto& file : files) impl_->csv << ',' << file;
@@ -177,6 +209,7 @@ void RecordingWriter::write(const FrameSet& frames) {
     }
     images.push_back(std::move(image));
   }
+  if (frames.joints) set_next_joints(*frames.joints);
   write(frames.sequence, frames.capture_time, *frames.rig, images);
 }
 
@@ -189,6 +222,7 @@ void RecordingWriter::close() {
   std::lock_guard lock(impl_->mutex);
   if (impl_->closed) return;
   impl_->closed = true;
+  if (impl_->joints_csv.is_open()) impl_->joints_csv.close();
   if (impl_->csv.is_open()) {
     impl_->csv.close();
     if (impl_->csv.fail()) throw std::runtime_error("cannot close '" + (impl_->folder / "frames.csv").string() + "'");

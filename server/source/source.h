@@ -4,6 +4,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,6 +49,10 @@ class Source {
   virtual void set_camera_sampling(const std::vector<double>& spacing) { (void)spacing; }
 
   virtual SourceHealth health() const = 0;
+
+  // The newest joint positions the source knows (a robot's own report), kept current also
+  // while it delivers no frames because nobody watches; null: it reports none.
+  virtual std::shared_ptr<const std::map<std::string, double>> latest_joints() const { return nullptr; }
 
  protected:
   explicit Source(std::string name) : name_(std::move(name)) {}

@@ -1,5 +1,7 @@
 #include "server/sources/replay_source.h"
 
+#include <filesystem>
+
 #include "server/sources/source_config_helpers.h"
 
 namespace omniview {
@@ -13,7 +15,14 @@ ReplaySource::ReplaySource(const SourceConfig& config) : Source(config.name) {
   try {
     recording_ = Recording::open(folder);
   } catch (const std::exception& e) {
-    r.fail(config.node["recording"], config.path + ".recording", e.what());
+    std::string why = e.what();
+    // The rule for relative paths, said where people trip over it: `omniview record -o
+    // recordings/lab` wrote into the CLI's working directory, not the config's folder.
+    if (std::filesystem::path(r.text(config.node["recording"], config.path + ".recording")).is_relative()) {
+      why += " (a relative path in a config resolves against the config file's folder, " +
+             (config.folder.empty() ? std::string(".") : config.folder) + ")";
+    }
+    r.fail(config.node["recording"], config.path + ".recording", why);
   }
   rate_hz_ = positive_number(config, "rate_hz", 0);
   speed_ = positive_number(config, "speed", 1);
@@ -109,6 +118,7 @@ void ReplaySource::run(FrameCallback on_frame) {
       frames->rig_version = rig_version;
       frames->images = std::move(next.images);
       frames->encoded = std::move(next.encoded);
+      frames->joints = recording_.frames[index].joints;  // the legs as they were, for the overlay
       on_frame(std::move(frames));
       std::lock_guard lock(mutex_);
       ++health_.frames;

@@ -145,6 +145,31 @@ bool SpotSource::sleep_until(Clock::time_point deadline) {
   return !stopping_;
 }
 
+std::shared_ptr<const std::map<std::string, double>> SpotSource::latest_joints() const {
+  std::lock_guard lock(mutex_);
+  return latest_joints_;
+}
+
+void SpotSource::publish_joints() {
+  std::lock_guard lock(mutex_);
+  latest_joints_ = joints_;
+}
+
+// Idle: one robot-state read a second (no images), so the joints the API reports are the
+// robot's pose now, not the one from when somebody last watched.
+void SpotSource::refresh_idle_joints() {
+  if (!robot_state_available_ || Clock::now() - joints_read_ < kJointsStale) return;
+  try {
+    joints_ = read_joint_states(session_);
+    joints_read_ = Clock::now();
+    publish_joints();
+  } catch (const SpotError& e) {
+    if (e.kind() != SpotError::Kind::kProtocol) throw;  // the robot went away: the usual handling
+    robot_state_available_ = false;
+    log("no joint angles for the robot overlay: " + std::string(e.what()));
+  }
+}
+
 void SpotSource::report(bool connected, const std::string& message) {
   std::lock_guard lock(mutex_);
   health_.connected = connected;
@@ -232,6 +257,7 @@ void SpotSource::connect() {
     try {
       joints_ = read_joint_states(session_);
       joints_read_ = Clock::now();
+      publish_joints();
     } catch (const SpotError& e) {
       if (e.kind() != SpotError::Kind::kProtocol) throw;  // away again: the usual handling
       robot_state_available_ = false;  // a robot (or image service) without robot state: no overlay joints
@@ -351,6 +377,7 @@ void SpotSource::finish_call(ImageCall& call) {
       robot_state_available_ = false;  // a robot (or image service) without robot state: no overlay joints
       log("no joint angles for the robot overlay: " + std::string(e.what()));
     }
+    publish_joints();
   }
   try {
     refresh_tree(set.edges);
@@ -460,7 +487,8 @@ void SpotSource::run() {
       const auto now = Clock::now();
       if (wanted.empty() && calls_.in_flight() == 0) {
         report(true, connect_note_);
-        if (!sleep_until(now + std::chrono::seconds(1))) break;  // nobody watches: pull nothing
+        refresh_idle_joints();  // `omniview joints` stays current with nobody watching
+        if (!sleep_until(now + std::chrono::seconds(1))) break;  // nobody watches: pull no images
         continue;
       }
       if (!wanted.empty() && now >= next_call && calls_.in_flight() < max_in_flight) {

@@ -39,6 +39,7 @@ class SpotSource : public Source {
   void stop() override;
   void set_wanted_cameras(const std::vector<bool>& wanted) override;
   SourceHealth health() const override;
+  std::shared_ptr<const std::map<std::string, double>> latest_joints() const override;
 
  private:
   void run();
@@ -83,6 +84,8 @@ class SpotSource : public Source {
   // Joint positions for the robot overlay, read at most kJointInterval apart while pulling.
   std::shared_ptr<const std::map<std::string, double>> joints_;
   std::chrono::steady_clock::time_point joints_read_;
+  void publish_joints();  // joints_ -> latest_joints_, for latest_joints()
+  void refresh_idle_joints();
   bool robot_state_available_ = true;  // false once the robot said it has no such service
   RobotClock clock_;
   std::chrono::steady_clock::time_point clock_updated_;
@@ -92,6 +95,7 @@ class SpotSource : public Source {
   std::condition_variable wake_;
   bool stopping_ = false;
   std::vector<bool> wanted_;  // by rig camera (= slot) index
+  std::shared_ptr<const std::map<std::string, double>> latest_joints_;
   std::shared_ptr<const Rig> rig_;
   uint64_t rig_version_ = 1;
   SourceHealth health_;

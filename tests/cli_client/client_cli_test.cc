@@ -46,7 +46,8 @@ std::string read(const fs::path& path) {
 TEST(ClientCli, HelpListsEveryCommand) {
   const auto r = run("--help");
   EXPECT_EQ(r.exit_code, 0);
-  for (const char* command : {"render", "cameras", "views", "ptz", "snapshot", "watch", "stream", "status", "record"}) {
+  for (const char* command :
+       {"render", "cameras", "views", "ptz", "snapshot", "watch", "show", "stream", "status", "record"}) {
     EXPECT_TRUE(has(r.output, std::string("  ") + command + " ")) << command;
     const auto help = run(std::string(command) + " --help");
     EXPECT_EQ(help.exit_code, 0) << command;

@@ -1,4 +1,4 @@
-// Poses and the angle conventions of DESIGN.md: yaw/pitch/roll as in ROS (positive pitch
+// Poses and the angle conventions of the API (README, "Conventions"): yaw/pitch/roll as in ROS (positive pitch
 // looks down), T_A_B maps B coordinates into A, the view and optical frames.
 #include "core/geometry/pose.h"
 
@@ -146,7 +146,7 @@ TEST(Pose, ViewToOpticalAxes) {
 }
 
 TEST(Pose, ViewPitchedStraightDownHasForwardAtTheTopOfTheImage) {
-  // DESIGN.md: a view at pitch +90 looks straight down with the robot's +x at the top of
+  // The convention: a view at pitch +90 looks straight down with the robot's +x at the top of
   // the image, i.e. along optical -y.
   const Mat3 R_robot_optical = rotation_from_ypr(0, 90 * kDeg, 0) * R_view_optical();
   EXPECT_TRUE(near(R_robot_optical * Vec3::UnitZ(), -Vec3::UnitZ()));  // looks down

@@ -1,8 +1,10 @@
-// Fuzz target: a recording's index (recording.yaml + frames.csv), which the replay source
-// reads from disk. Input: recording.yaml's text, a line "=====", then frames.csv's text.
+// Fuzz target: a recording's index (recording.yaml + frames.csv, and joints.csv), which the
+// replay source reads from disk. Input: recording.yaml's text, a line "=====", frames.csv's
+// text, optionally another line "=====" and joints.csv's text.
 // A ConfigError is the expected answer to bad input; anything else is a bug.
 #include <cstddef>
 #include <cstdint>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -15,9 +17,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string separator = "\n=====\n";
   const size_t split = input.find(separator);
   const std::string yaml = input.substr(0, split);
-  const std::string csv = split == std::string::npos ? "" : input.substr(split + separator.size());
+  std::string csv = split == std::string::npos ? "" : input.substr(split + separator.size());
+  const size_t joints_split = csv.find(separator);
+  const std::string joints = joints_split == std::string::npos ? "" : csv.substr(joints_split + separator.size());
+  if (joints_split != std::string::npos) csv.resize(joints_split + 1);  // keep the last line's newline
   try {
-    const auto index = omniview::parse_recording_index(yaml, csv, "fuzz");
+    auto index = omniview::parse_recording_index(yaml, csv, "fuzz");
     // What Recording::open and the replay source rely on after a successful parse.
     if (index.frames.empty() || index.camera_names.empty()) std::abort();
     for (const auto& frame : index.frames) {
@@ -27,6 +32,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         for (const auto& part : std::filesystem::path(file)) {
           if (part == "..") std::abort();  // must stay inside the recording folder
         }
+      }
+    }
+    omniview::parse_recording_joints(joints, "fuzz/joints.csv", index.frames);
+    for (const auto& frame : index.frames) {
+      if (!frame.joints) continue;
+      for (const auto& [name, position] : *frame.joints) {
+        if (name.empty() || !std::isfinite(position)) std::abort();
       }
     }
   } catch (const omniview::ConfigError&) {

@@ -206,3 +206,52 @@ TEST(RecordingIndex, ParsesFromStrings) {
 
 }  // namespace
 }  // namespace omniview
+
+namespace omniview {
+namespace {
+
+// The robot's joints go along with their frame sets (joints.csv) and come back per frame;
+// frames without any stay without; damage names the file and line.
+TEST(RecordingJoints, KeptPerFrameSetAndReadBack) {
+  const fs::path dir = fs::temp_directory_path() / ("recording_joints_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const auto rig = small_rig();
+  {
+    RecordingWriter writer(dir.string(), "robot");
+    for (int i = 0; i < 3; ++i) {
+      FrameSet frames;
+      frames.sequence = i + 1;
+      frames.rig = rig;
+      frames.images = {pattern(i), pattern(i + 1)};
+      if (i != 1) {
+        frames.joints = std::make_shared<const std::map<std::string, double>>(
+            std::map<std::string, double>{{"fl.kn", -1.5 - i}, {"fl.hy", 0.1234567890123}});
+      }
+      writer.write(frames);
+    }
+  }
+  const Recording rec = Recording::open(dir.string());
+  ASSERT_EQ(rec.frames.size(), 3u);
+  ASSERT_TRUE(rec.frames[0].joints);
+  EXPECT_EQ(rec.frames[0].joints->at("fl.kn"), -1.5);
+  EXPECT_EQ(rec.frames[0].joints->at("fl.hy"), 0.1234567890123) << "positions kept to the last digit";
+  EXPECT_FALSE(rec.frames[1].joints);
+  ASSERT_TRUE(rec.frames[2].joints);
+  EXPECT_EQ(rec.frames[2].joints->at("fl.kn"), -3.5);
+
+  std::vector<RecordingFrame> frames(2);
+  parse_recording_joints("frame,joint,position\n0,a,1\n1,b,2\n5,c,3\n1,d,4", "joints.csv", frames);
+  EXPECT_EQ(frames[0].joints->at("a"), 1);
+  EXPECT_EQ(frames[1].joints->size(), 1u) << "a cut-short last line is ignored";
+  try {
+    parse_recording_joints("frame,joint,position\n0,a,straight\n", "rec/joints.csv", frames);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("rec/joints.csv:2: position 'straight'"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parse_recording_joints("frame,name,value\n", "joints.csv", frames), ConfigError);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace omniview

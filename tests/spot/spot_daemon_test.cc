@@ -4,6 +4,9 @@
 // bad images, and credentials that never reach a log.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <iostream>
+
 #include <netinet/in.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -541,6 +544,56 @@ TEST(SpotSource, BadImagesFailedCallsAndExpiredTokensAreSkippedAndCounted) {
   EXPECT_GT(st.errors(), 0u) << st.DebugString();
   EXPECT_EQ(daemon.stop(SIGTERM), 0) << daemon.log();
   expect_no_secrets(daemon.log(), mock_password(dir));
+}
+
+// The robot moves while nobody watches: the joints the API reports follow it (a
+// robot-state read a second, no images), so `omniview joints` is never stale.
+TEST(SpotSource, JointsAreCurrentWithNobodyWatching) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port);
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+  ASSERT_TRUE(eventually([&] { return source_status(*stub).connected(); }, 10s)) << daemon.log();
+  mock_control(mock, "--joint fl.kn=-0.7");
+  const auto knee = [&] {
+    v1::JointPositions joints;
+    EXPECT_TRUE(stub->GetJointPositions(make_context().get(), v1::GetJointPositionsRequest(), &joints).ok());
+    for (const auto& j : joints.joints()) {
+      if (j.name() == "fl.kn" && j.origin() == v1::Joint::SOURCE) return j.position();
+    }
+    return 0.0;
+  };
+  const auto scale = std::chrono::milliseconds(static_cast<int64_t>(4000 * test_time_scale()));
+  EXPECT_TRUE(eventually([&] { return std::abs(knee() + 0.7) < 1e-6; }, scale)) << "fl.kn " << knee();
+  EXPECT_EQ(mock_control(mock, "--counters").at("get_image_calls"), 0) << "images pulled with nobody watching";
+}
+
+// The README's `views create` example for the demo's Spot shows what the left camera sees,
+// not a mostly black picture (the old example was 58 % black); the shipped views of
+// config/spot.yaml are covered too (the front view without its black notch at the top).
+TEST(SpotSource, TheReadmesCreatedViewIsCovered) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port, "room");
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+  ASSERT_TRUE(eventually([&] { return source_status(*stub).connected(); }, 10s)) << daemon.log();
+  const auto r = run_process(std::string(OMNIVIEW_CLI) + " views create --file " + OMNIVIEW_SOURCE_DIR +
+                             "/config/examples/views/front_perspective.yaml --set name=left --set frame=body"
+                             " --set xyz=0,0,0 --set yaw_deg=90 --set pitch_deg=35 --set hfov_deg=80"
+                             " --set distance=1.5 --server " + daemon.address());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+  v1::Status st;
+  ASSERT_TRUE(stub->GetStatus(make_context().get(), v1::GetStatusRequest(), &st).ok());
+  for (const auto& v : st.views()) {
+    std::cout << "view " << v.name() << ": coverage " << v.coverage() << "\n";
+    if (v.name() == "left") EXPECT_GT(v.coverage(), 0.97);
+    if (v.name() == "front") EXPECT_GT(v.coverage(), 0.99);
+    if (v.name() == "panorama") EXPECT_GT(v.coverage(), 0.95);
+    if (v.name() == "birdseye") EXPECT_GT(v.coverage(), 0.85);
+  }
 }
 
 }  // namespace

@@ -18,7 +18,7 @@ struct PinholeCamera {
   Vec2 project(const Vec3& p_optical) const { return {fx * p_optical.x() / p_optical.z() + cx, fy * p_optical.y() / p_optical.z() + cy}; }
 };
 
-// The pinhole of a perspective or bird's-eye view (DESIGN.md, "Conventions"): square pixels,
+// The pinhole of a perspective or bird's-eye view (README, "Conventions"): square pixels,
 // f = (W/2)/tan(hfov/2), principal point ((W-1)/2, (H-1)/2).
 PinholeCamera pinhole_camera_of(const ViewSpec& spec);
 
