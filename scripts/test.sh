@@ -27,6 +27,6 @@ cmake -S . -B build-tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_
   -DOMNIVIEW_BUILD_TESTS=ON -DOMNIVIEW_BUILD_BENCH=OFF > /dev/null
 cmake --build build-tsan -j "$(nproc)" --target omniviewd omniview views_api_test streaming_test auth_test \
   lifecycle_test clients_test rate_average_test pipeline_queues_test images_source_test replay_source_test recording_test cli_client_test client_cli_test \
-  overlay_test spot-mock spot_mock_test spot_daemon_test
+  overlay_test spot-mock spot_mock_test spot_daemon_test request_bounds_test
 OMNIVIEW_THREADS=1 OMNIVIEW_TEST_TIME_SCALE=3 TSAN_OPTIONS="suppressions=$PWD/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
   ctest --test-dir build-tsan -L server --output-on-failure -j "$(nproc)" -E "$timing_bound"

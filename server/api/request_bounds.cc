@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include <google/protobuf/descriptor.h>
+#include <google/protobuf/descriptor.pb.h>
 
 #include "core/io/quote.h"
 

@@ -70,14 +70,14 @@ void expect_served(const TempDir& dir, Way way, const std::string& address, cons
   EXPECT_NE(o.start_output.find("SERVED"), std::string::npos) << o.start_output;
 }
 
-void expect_refused(const TempDir& dir, Way way, const std::string& address, const std::string& says,
+void expect_refused(const TempDir& dir, Way way, const std::string& address, std::vector<std::string> says,
                     const std::string& extra = "") {
   SCOPED_TRACE(name(way) + " " + address);
   const Outcome o = try_way(dir, way, address, extra);
   for (const auto& [exit, output] : {std::pair{o.check_exit, o.check_output}, {o.start_exit, o.start_output}}) {
     EXPECT_EQ(exit, 1) << output;
     EXPECT_NE(output.find(blamed(way)), std::string::npos) << "blames the " << name(way) << ":\n" << output;
-    EXPECT_NE(output.find(says), std::string::npos) << output;
+    for (const auto& words : says) EXPECT_NE(output.find(words), std::string::npos) << output;
     EXPECT_EQ(output.find("SERVED"), std::string::npos) << output;
   }
 }
@@ -88,9 +88,9 @@ TEST(Exposure, WildcardsInEverySpellingAreRefusedWithoutTlsAndTokens) {
   TempDir dir;
   for (const Way way : kWays) {
     for (const std::string address : {"0.0.0.0:0", "0:0", "[::]:0", "[0::0]:0", "[::ffff:0.0.0.0]:0"}) {
-      expect_refused(dir, way, address, "is reachable from other machines, but there is neither tls nor tokens");
+      expect_refused(dir, way, address, {"'" + address + "' is reachable from other machines", "neither tls nor tokens"});
     }
-    expect_refused(dir, way, ":0", "names no host");  // a form error, caught before gRPC guesses
+    expect_refused(dir, way, ":0", {"names no host"});  // a form error, caught before gRPC guesses
   }
 }
 
@@ -134,8 +134,8 @@ TEST(Exposure, GuardsOrTheOptOutLetAWildcardServe) {
   const std::string tokens = "tokens: [{role: operator, token: operator-secret-1}]\n";
   for (const Way way : kWays) {
     expect_served(dir, way, "0.0.0.0:0", tls + tokens);
-    expect_refused(dir, way, "[::]:0", "there is no tls", tokens);
-    expect_refused(dir, way, "[::]:0", "there are no tokens", tls);
+    expect_refused(dir, way, "[::]:0", {"there is no tls"}, tokens);
+    expect_refused(dir, way, "[::]:0", {"there are no tokens"}, tls);
   }
   expect_served(dir, Way::kFlag, "[::]:0", "allow_insecure_remote: true\n");
 }
@@ -150,13 +150,13 @@ TEST(Exposure, HostNamesAreResolvedAndJudgedByEveryAddress) {
   const bool remote = exposure_refusal({std::string(host) + ":0"}) != "";
   for (const Way way : kWays) {
     if (numbers.empty()) {
-      expect_refused(dir, way, std::string(host) + ":0", "does not resolve");
+      expect_refused(dir, way, std::string(host) + ":0", {"does not resolve"});
     } else if (remote) {
-      expect_refused(dir, way, std::string(host) + ":0", "is reachable from other machines");
+      expect_refused(dir, way, std::string(host) + ":0", {"is reachable from other machines"});
     } else {
       expect_served(dir, way, std::string(host) + ":0");
     }
-    expect_refused(dir, way, "no-such-host.invalid:0", "does not resolve");
+    expect_refused(dir, way, "no-such-host.invalid:0", {"does not resolve"});
   }
 }
 
@@ -169,8 +169,8 @@ TEST(Exposure, AUnixSocketNeedsAFolderOnlyItsOwnerAndGroupCanEnter) {
   ASSERT_EQ(::chmod(loose.c_str(), 0755), 0);
   for (const Way way : kWays) {
     expect_served(dir, way, "unix:" + (tight / "o.sock").string());
-    expect_refused(dir, way, "unix:" + (loose / "o.sock").string(), "every user of this machine can enter");
-    expect_refused(dir, way, "unix-abstract:omniview-test", "every user of this machine can connect");
+    expect_refused(dir, way, "unix:" + (loose / "o.sock").string(), {"every user of this machine can enter"});
+    expect_refused(dir, way, "unix-abstract:omniview-test", {"every user of this machine can connect"});
   }
   // Served on the socket, which only the owner and group may use whatever the umask.
   const std::string socket = (tight / "served.sock").string();

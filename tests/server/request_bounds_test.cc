@@ -40,7 +40,7 @@ const std::vector<Case>& out_of_range() {
       {"name", [](v1::ViewSpec& s) { s.set_name(std::string(65, 'a')); }},
       {"name", [](v1::ViewSpec& s) { s.set_name("two words"); }},
       {"width", [](v1::ViewSpec& s) { s.set_width(0); }},
-      {"width", [](v1::ViewSpec& s) { s.set_width(1 << 20); }},
+      {"width", [](v1::ViewSpec& s) { s.set_width(20000); }},
       {"height", [](v1::ViewSpec& s) { s.set_height(-5); }},
       {"source", [](v1::ViewSpec& s) { s.set_source(std::string(300, 's')); }},
       {"frame", [](v1::ViewSpec& s) { s.set_frame(std::string(200, 'f')); }},
