@@ -5,7 +5,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
+#include <functional>
+#include <future>
 
 #include "daemon_process.h"
 #include "server/exposure/exposure_rule.h"
@@ -23,7 +26,7 @@ std::string name(Way way) {
 
 // What a config, --listen or OMNIVIEW_LISTEN blames a refusal on.
 std::string blamed(Way way) {
-  return way == Way::kConfig ? "way.yaml:1: listen: " : way == Way::kFlag ? "--listen: " : "OMNIVIEW_LISTEN: ";
+  return way == Way::kConfig ? ".yaml:1: listen: " : way == Way::kFlag ? "--listen: " : "OMNIVIEW_LISTEN: ";
 }
 
 struct Outcome {
@@ -43,9 +46,10 @@ Outcome try_way(const TempDir& dir, Way way, const std::string& address, const s
   if (way == Way::kConfig) config.replace(0, config.find('\n'), "listen: " + quoted(address));
   if (way == Way::kFlag) flag = " --listen " + quoted(address);
   if (way == Way::kEnv) prefix = "OMNIVIEW_LISTEN=" + quoted(address) + " ";
-  const std::string file = dir.write("way.yaml", config);
-  const fs::path ready = dir.path() / "way.ready";
-  fs::remove(ready);
+  static std::atomic<int> runs{0};
+  const std::string tag = std::to_string(++runs);
+  const std::string file = dir.write("way" + tag + ".yaml", config);
+  const fs::path ready = dir.path() / ("way" + tag + ".ready");
   Outcome o;
   const auto check = run_process(prefix + OMNIVIEWD + " --check --config " + file + flag);
   o.check_exit = check.exit_code;
@@ -53,7 +57,7 @@ Outcome try_way(const TempDir& dir, Way way, const std::string& address, const s
   const int tries = static_cast<int>(300 * test_time_scale());  // 0.1 s each
   const std::string start = prefix + OMNIVIEWD + " --config " + file + flag + " --ready-file " + ready.string();
   const std::string script = dir.write(
-      "way.sh", start + " & p=$!\nfor i in $(seq " + std::to_string(tries) + "); do\n"
+      "way" + tag + ".sh", start + " & p=$!\nfor i in $(seq " + std::to_string(tries) + "); do\n"
                 "  if [ -s " + ready.string() + " ]; then kill $p; wait $p; echo SERVED; exit 0; fi\n"
                 "  kill -0 $p 2>/dev/null || { wait $p; exit $?; }\n  sleep 0.1\ndone\nkill -9 $p\nexit 99\n");
   const auto run = run_process("bash " + script);
@@ -84,21 +88,44 @@ void expect_refused(const TempDir& dir, Way way, const std::string& address, std
 
 constexpr Way kWays[] = {Way::kConfig, Way::kFlag, Way::kEnv};
 
+// Runs the checks a few at a time: each is a --check and a start of a separate process,
+// and a table of them one by one would take minutes on a loaded machine.
+class Parallel {
+ public:
+  ~Parallel() { wait(); }
+  void add(std::function<void()> run) {
+    if (running_.size() >= 6) wait();
+    running_.push_back(std::async(std::launch::async, std::move(run)));
+  }
+  void wait() {
+    for (auto& r : running_) r.get();
+    running_.clear();
+  }
+
+ private:
+  std::vector<std::future<void>> running_;
+};
+
 TEST(Exposure, WildcardsInEverySpellingAreRefusedWithoutTlsAndTokens) {
   TempDir dir;
+  Parallel runs;
   for (const Way way : kWays) {
     for (const std::string address : {"0.0.0.0:0", "0:0", "[::]:0", "[0::0]:0", "[::ffff:0.0.0.0]:0"}) {
-      expect_refused(dir, way, address, {"'" + address + "' is reachable from other machines", "neither tls nor tokens"});
+      runs.add([&dir, way, address] {
+        expect_refused(dir, way, address, {"'" + address + "' is reachable from other machines", "neither tls nor tokens"});
+      });
     }
-    expect_refused(dir, way, ":0", {"names no host"});  // a form error, caught before gRPC guesses
+    // A form error, caught before gRPC guesses.
+    runs.add([&dir, way] { expect_refused(dir, way, ":0", {"names no host"}); });
   }
 }
 
 TEST(Exposure, LoopbackInEverySpellingServes) {
   TempDir dir;
+  Parallel runs;
   for (const Way way : kWays) {
     for (const std::string address : {"127.0.0.1:0", "[::1]:0", "localhost:0", "[::ffff:127.0.0.1]:0"}) {
-      expect_served(dir, way, address);
+      runs.add([&dir, way, address] { expect_served(dir, way, address); });
     }
   }
 }
@@ -132,12 +159,13 @@ TEST(Exposure, GuardsOrTheOptOutLetAWildcardServe) {
   ASSERT_EQ(std::system(("bash " OMNIVIEW_SOURCE_DIR "/scripts/make-test-certs.sh " + certs.string() + " > /dev/null").c_str()), 0);
   const std::string tls = "tls: {cert: " + (certs / "server.crt").string() + ", key: " + (certs / "server.key").string() + "}\n";
   const std::string tokens = "tokens: [{role: operator, token: operator-secret-1}]\n";
+  Parallel runs;
   for (const Way way : kWays) {
-    expect_served(dir, way, "0.0.0.0:0", tls + tokens);
-    expect_refused(dir, way, "[::]:0", {"there is no tls"}, tokens);
-    expect_refused(dir, way, "[::]:0", {"there are no tokens"}, tls);
+    runs.add([&, way] { expect_served(dir, way, "0.0.0.0:0", tls + tokens); });
+    runs.add([&, way] { expect_refused(dir, way, "[::]:0", {"there is no tls"}, tokens); });
+    runs.add([&, way] { expect_refused(dir, way, "[::]:0", {"there are no tokens"}, tls); });
   }
-  expect_served(dir, Way::kFlag, "[::]:0", "allow_insecure_remote: true\n");
+  runs.add([&] { expect_served(dir, Way::kFlag, "[::]:0", "allow_insecure_remote: true\n"); });
 }
 
 TEST(Exposure, HostNamesAreResolvedAndJudgedByEveryAddress) {
@@ -148,15 +176,18 @@ TEST(Exposure, HostNamesAreResolvedAndJudgedByEveryAddress) {
   const auto numbers = resolve_host(host, &error);
   // This machine's own name: refused if it stands for any address another machine can use.
   const bool remote = exposure_refusal({std::string(host) + ":0"}) != "";
+  Parallel runs;
   for (const Way way : kWays) {
-    if (numbers.empty()) {
-      expect_refused(dir, way, std::string(host) + ":0", {"does not resolve"});
-    } else if (remote) {
-      expect_refused(dir, way, std::string(host) + ":0", {"is reachable from other machines"});
-    } else {
-      expect_served(dir, way, std::string(host) + ":0");
-    }
-    expect_refused(dir, way, "no-such-host.invalid:0", {"does not resolve"});
+    runs.add([&, way] {
+      if (numbers.empty()) {
+        expect_refused(dir, way, std::string(host) + ":0", {"does not resolve"});
+      } else if (remote) {
+        expect_refused(dir, way, std::string(host) + ":0", {"is reachable from other machines"});
+      } else {
+        expect_served(dir, way, std::string(host) + ":0");
+      }
+      expect_refused(dir, way, "no-such-host.invalid:0", {"does not resolve"});
+    });
   }
 }
 
@@ -167,11 +198,14 @@ TEST(Exposure, AUnixSocketNeedsAFolderOnlyItsOwnerAndGroupCanEnter) {
   fs::create_directories(loose);
   ASSERT_EQ(::chmod(tight.c_str(), 0750), 0);
   ASSERT_EQ(::chmod(loose.c_str(), 0755), 0);
+  Parallel runs;
   for (const Way way : kWays) {
-    expect_served(dir, way, "unix:" + (tight / "o.sock").string());
-    expect_refused(dir, way, "unix:" + (loose / "o.sock").string(), {"every user of this machine can enter"});
-    expect_refused(dir, way, "unix-abstract:omniview-test", {"every user of this machine can connect"});
+    const std::string tight_socket = "unix:" + (tight / ("o" + std::to_string(static_cast<int>(way)) + ".sock")).string();
+    runs.add([&, way, tight_socket] { expect_served(dir, way, tight_socket); });
+    runs.add([&, way] { expect_refused(dir, way, "unix:" + (loose / "o.sock").string(), {"every user of this machine can enter"}); });
+    runs.add([&, way] { expect_refused(dir, way, "unix-abstract:omniview-test", {"every user of this machine can connect"}); });
   }
+  runs.wait();
   // Served on the socket, which only the owner and group may use whatever the umask.
   const std::string socket = (tight / "served.sock").string();
   DaemonProcess daemon(dir, example_config(10), {"--listen", "unix:" + socket});

@@ -207,7 +207,7 @@ TEST_F(RequestBounds, JointPositionsAreBoundedBeforeAnyModelIsAsked) {
   expect_refused(set([](auto& r) { (*r.mutable_positions())["elbow"] = kInf; }), "positions[elbow]", "inf");
   expect_refused(set([](auto& r) { (*r.mutable_positions())[std::string(5000, 'j')] = 1; }), "positions", "long joint");
   expect_refused(set([](auto& r) {
-                   for (int i = 0; i < 1000; ++i) (*r.mutable_positions())["j" + std::to_string(i)] = 0;
+                   for (int i = 0; i < 1000; ++i) (*r.mutable_positions())[std::to_string(i) + "_joint"] = 0;
                  }),
                  "positions", "1000 joints");
   expect_refused(set([](auto& r) { r.set_source(std::string(1000, 's')); }), "source", "long source");
