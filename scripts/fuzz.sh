@@ -3,7 +3,7 @@
 # outside CI: builds the targets with clang (-DOMNIVIEW_FUZZ=ON, ASan + UBSan) into
 # build-fuzz/, then runs each for SECONDS (default 60) from its seed corpus.
 #
-#   bash scripts/fuzz.sh [SECONDS]
+#   bash scripts/fuzz.sh [SECONDS] [TARGET...]     (default: every target, e.g. urdf_fuzz)
 #
 # New inputs libFuzzer finds are kept in build-fuzz/corpus/TARGET (later runs go on from
 # them; the seed corpus in tests/fuzz/corpus is never written). A crash, leak or UBSan
@@ -14,7 +14,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-60}"
-[[ "$seconds" =~ ^[0-9]+$ ]] || { echo "usage: $0 [SECONDS per target]" >&2; exit 2; }
+[[ "$seconds" =~ ^[0-9]+$ ]] || { echo "usage: $0 [SECONDS per target] [TARGET...]" >&2; exit 2; }
+shift $(($# > 0 ? 1 : 0))
+only=("$@")
 
 bash scripts/install-deps.sh
 # libFuzzer comes with clang (its runtime is in libclang-rt-14-dev): fuzzing only, so not
@@ -27,7 +29,12 @@ fi
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DOMNIVIEW_FUZZ=ON -DOMNIVIEW_BUILD_TESTS=ON -DOMNIVIEW_BUILD_BENCH=OFF > /dev/null
 # tests/fuzz/CMakeLists.txt lists "TARGET CORPUS_FOLDER" per target at configure time.
-mapfile -t entries < build-fuzz/fuzz_targets.txt
+mapfile -t all_entries < build-fuzz/fuzz_targets.txt
+entries=()
+for entry in "${all_entries[@]}"; do
+  if ((${#only[@]} == 0)) || [[ " ${only[*]} " == *" ${entry%% *} "* ]]; then entries+=("$entry"); fi
+done
+((${#entries[@]})) || { echo "no fuzz target named ${only[*]} (see build-fuzz/fuzz_targets.txt)" >&2; exit 2; }
 targets=()
 for entry in "${entries[@]}"; do targets+=("${entry%% *}_libfuzzer"); done
 cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
