@@ -3,6 +3,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 
 #include <malloc.h>
@@ -35,6 +36,7 @@ void print_help() {
                "\n"
                "Source types:\n";
   for (const auto& [type, help] : omniview::source_types()) std::cout << "  " << type << ": " << help << "\n";
+  std::cout << "\nEnvironment: OMNIVIEW_LISTEN=HOST:PORT overrides the config's listen address (--listen wins).\n";
   std::cout << "\nEnvironment: OMNIVIEW_THREADS=N caps the threads that build and apply maps (default: all\n"
                "cores; 1: everything on the render and request threads).\n";
   std::cout << "\nStop with SIGTERM or Ctrl-C: streams end with status UNAVAILABLE, nothing hangs.\n";
@@ -58,7 +60,8 @@ int main(int argc, char** argv) {
   omniview::register_builtin_sources();
   omniview::spot::register_spot_source();
   omniview::insta360::register_insta360_sources();
-  std::string config_file, listen, ready_file;
+  std::string config_file, ready_file;
+  std::optional<std::string> listen;
   bool check_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -104,8 +107,9 @@ int main(int argc, char** argv) {
 
   try {
     omniview::apply_worker_threads_from_env();
-    omniview::DaemonConfig config = omniview::load_daemon_config(config_file);
-    if (!listen.empty()) config.listen = listen;
+    // --listen, OMNIVIEW_LISTEN and the file merged, then the exposure rule: --check and a start alike.
+    omniview::DaemonConfig config =
+        omniview::load_daemon_config(config_file, omniview::ListenOptions::from_environment(listen));
     if (check_only) {
       // Everything the real start does but listening: sources, views, TLS credentials.
       omniview::Daemon daemon(config, /*listen=*/false);

@@ -1,5 +1,4 @@
-// Colouring a point cloud from a rig's cameras (DESIGN.md: "a lidar point cloud coloured
-// from the same cameras").
+// Colouring a point cloud from a rig's cameras (README: "Coloured point clouds").
 //
 // Every point is moved to where it was, relative to each camera, when that camera's image
 // was taken (the robot's motion between the lidar's and the cameras' stamps comes from a

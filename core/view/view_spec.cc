@@ -6,13 +6,25 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/io/quote.h"
+
 namespace omniview {
 namespace {
 
 constexpr double kDeg = M_PI / 180;
 
 void check(bool ok, const ViewSpec& s, const std::string& field, const std::string& why) {
-  if (!ok) throw std::invalid_argument("view '" + s.name + "': " + field + " " + why);
+  if (!ok) throw std::invalid_argument("view " + quote_prefix(s.name) + ": " + field + " " + why);
+}
+
+bool within(double x, double lo, double hi) { return x >= lo && x <= hi; }  // false for NaN
+
+// Source and frame names: looked up, listed and echoed in messages.
+void check_name(const std::string& value, const ViewSpec& s, const std::string& field) {
+  check(value.size() <= kMaxFrameNameLength, s, field,
+        "may be at most " + std::to_string(kMaxFrameNameLength) + " characters, got " + quote_prefix(value));
+  check(std::none_of(value.begin(), value.end(), [](char c) { return std::iscntrl(static_cast<unsigned char>(c)); }),
+        s, field, "must not hold control characters, got " + quote_prefix(value));
 }
 
 std::string num(double x) {
@@ -70,17 +82,26 @@ ViewSpec default_view_spec(ViewType type) {
 
 void validate(const ViewSpec& s) {
   check(!s.name.empty(), s, "name", "must not be empty");
+  check(s.name.size() <= kMaxViewNameLength, s, "name",
+        "may be at most " + std::to_string(kMaxViewNameLength) + " characters long, got " +
+            std::to_string(s.name.size()));
   // One word: commands take it as one argument and `omniview render` writes NAME.png.
   check(std::all_of(s.name.begin(), s.name.end(),
                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.'; }),
-        s, "name", "may hold only letters, digits, '_', '-' and '.' (no spaces or '/'), got '" + s.name + "'");
+        s, "name", "may hold only letters, digits, '_', '-' and '.' (no spaces or '/'), got " + quote_prefix(s.name));
+  check_name(s.source, s, "source");
+  check_name(s.frame, s, "frame");
   for (const auto& [field, v] : {std::pair{"width", s.width}, std::pair{"height", s.height}}) {
     check(v >= 1 && v <= kMaxViewSide, s, field,
           "must be between 1 and " + std::to_string(kMaxViewSide) + " pixels, got " + std::to_string(v));
   }
-  check(s.position.allFinite() && std::isfinite(s.yaw_deg) && std::isfinite(s.pitch_deg) &&
-            std::isfinite(s.roll_deg),
-        s, "pose", "must be finite");
+  for (int i = 0; i < 3; ++i) {
+    check(within(s.position[i], -kMaxViewLength_m, kMaxViewLength_m), s, std::string("position.") + "xyz"[i],
+          "must be within +-" + num(kMaxViewLength_m) + " m, got " + num(s.position[i]));
+  }
+  check(within(s.yaw_deg, -kMaxAngleDeg, kMaxAngleDeg), s, "yaw_deg",
+        "(pan) must be in [-360, 360], got " + num(s.yaw_deg));
+  check(within(s.roll_deg, -kMaxAngleDeg, kMaxAngleDeg), s, "roll_deg", "must be in [-360, 360], got " + num(s.roll_deg));
   // Beyond straight down (or up) the view would be upside down behind: that is a pan of 180.
   check(s.pitch_deg >= -90 && s.pitch_deg <= 90, s, "pitch_deg",
         "(tilt) must be in [-90, 90] (positive looks down), got " + num(s.pitch_deg) +
@@ -92,18 +113,23 @@ void validate(const ViewSpec& s) {
             to_string(s.type) + " views");
   switch (s.type) {
     case ViewType::kPerspective:
-      check(s.hfov_deg > 0 && s.hfov_deg < 180, s, "hfov_deg",
-            "must be in (0, 180) for a perspective view, got " + num(s.hfov_deg) +
+      check(s.hfov_deg >= kMinFovDeg && s.hfov_deg < 180, s, "hfov_deg",
+            "must be in [0.01, 180) for a perspective view, got " + num(s.hfov_deg) +
                 " (use a fisheye, cylindrical or equirectangular view for wider fields)");
-      check(s.distance > 0 && std::isfinite(s.distance), s, "distance", "must be > 0, got " + num(s.distance));
+      check(s.distance > 0 && s.distance <= kMaxViewLength_m, s, "distance",
+            "must be in (0, 10000] m, got " + num(s.distance));
       break;
     case ViewType::kBirdseye:
-      check(s.hfov_deg > 0 && s.hfov_deg < 180, s, "hfov_deg", "must be in (0, 180), got " + num(s.hfov_deg));
-      check(s.height_m > 0 && std::isfinite(s.height_m), s, "height", "must be > 0 m, got " + num(s.height_m));
-      check(std::isfinite(s.ground_z), s, "ground_z", "must be finite");
+      check(s.hfov_deg >= kMinFovDeg && s.hfov_deg < 180, s, "hfov_deg",
+            "must be in [0.01, 180), got " + num(s.hfov_deg));
+      check(s.height_m > 0 && s.height_m <= kMaxViewLength_m, s, "height",
+            "must be in (0, 10000] m, got " + num(s.height_m));
+      check(within(s.ground_z, -kMaxViewLength_m, kMaxViewLength_m), s, "ground_z",
+            "must be within +-10000 m, got " + num(s.ground_z));
       break;
     case ViewType::kCylindrical:
-      check(s.vfov_deg > 0 && s.vfov_deg < 180, s, "vfov_deg", "must be in (0, 180), got " + num(s.vfov_deg));
+      check(s.vfov_deg >= kMinFovDeg && s.vfov_deg < 180, s, "vfov_deg",
+            "must be in [0.01, 180), got " + num(s.vfov_deg));
       break;
     case ViewType::kMercator:
       check(s.lat_min_deg > -90 && s.lat_max_deg < 90 && s.lat_min_deg < s.lat_max_deg, s,
@@ -116,18 +142,20 @@ void validate(const ViewSpec& s) {
                                           num(s.lat_min_deg) + ", " + num(s.lat_max_deg));
       break;
     case ViewType::kFisheye:
-      check(s.fov_deg > 0 && s.fov_deg <= 360, s, "fov_deg", "must be in (0, 360], got " + num(s.fov_deg));
+      check(s.fov_deg >= kMinFovDeg && s.fov_deg <= 360, s, "fov_deg",
+            "must be in [0.01, 360], got " + num(s.fov_deg));
       break;
   }
   if (s.type == ViewType::kCylindrical || s.type == ViewType::kMercator ||
       s.type == ViewType::kEquirectangular) {
-    check(s.azimuth_span_deg > 0 && s.azimuth_span_deg <= 360, s, "azimuth_span_deg",
-          "must be in (0, 360], got " + num(s.azimuth_span_deg));
+    check(s.azimuth_span_deg >= kMinFovDeg && s.azimuth_span_deg <= 360, s, "azimuth_span_deg",
+          "must be in [0.01, 360], got " + num(s.azimuth_span_deg));
   }
   if (s.type != ViewType::kPerspective && s.type != ViewType::kBirdseye) {
-    check(s.radius > 0 && std::isfinite(s.radius), s, "radius", "must be > 0 m, got " + num(s.radius));
+    check(s.radius > 0 && s.radius <= kMaxViewLength_m, s, "radius", "must be in (0, 10000] m, got " + num(s.radius));
   }
-  check(s.feather_px > 0 && std::isfinite(s.feather_px), s, "feather_px", "must be > 0, got " + num(s.feather_px));
+  check(s.feather_px > 0 && s.feather_px <= kMaxViewSide, s, "feather_px",
+        "must be in (0, " + std::to_string(kMaxViewSide) + "], got " + num(s.feather_px));
 }
 
 }  // namespace omniview

@@ -21,6 +21,12 @@ std::string to_string(Fusion f);
 Fusion fusion_from_string(const std::string& s, const std::string& what);
 
 constexpr int kMaxViewSide = 16384;
+// Bounds on what a client may ask for (the config and the API share them, see validate()).
+constexpr size_t kMaxViewNameLength = 64;      // view names: one word, short enough for every listing
+constexpr size_t kMaxFrameNameLength = 128;    // frame and source names
+constexpr double kMaxViewLength_m = 10000;     // positions, distances, radii, heights
+constexpr double kMaxAngleDeg = 360;           // |yaw|, |roll| (pan wraps at +-180 anyway)
+constexpr double kMinFovDeg = 0.01;            // narrowest field of view (a zoom of ~11 000)
 
 struct ViewSpec {
   std::string name = "view";
@@ -62,7 +68,11 @@ struct ViewSpec {
 // looks straight down, a mercator spans +-80 deg latitude.
 ViewSpec default_view_spec(ViewType type);
 
-// Throws std::invalid_argument with a message that names the view and the field.
+// Throws std::invalid_argument with a message that names the view and the field (quoting
+// at most a short prefix of any name). The one check every view passes, from the config,
+// `omniview render` and the API's CreateView and UpdateView alike: names (length and
+// characters), sizes, angles, fields of view, lengths, feather, opacity; NaN and infinity
+// fail every bound.
 void validate(const ViewSpec& spec);
 
 }  // namespace omniview

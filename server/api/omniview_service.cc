@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/rig/rig.h"
+#include "server/api/request_bounds.h"
 #include "server/convert/convert.h"
 #include "server/pipeline/frame_encoder.h"
 
@@ -16,16 +17,25 @@ namespace omniview {
 namespace {
 
 // Runs `body`, turning the pipeline's and core's exceptions into statuses.
+// A status message travels in a header: however it was built, keep it far below gRPC's
+// metadata limit (8 KiB), or the client sees RESOURCE_EXHAUSTED instead of the refusal.
+grpc::Status bounded(grpc::StatusCode code, std::string message) {
+  constexpr size_t kMaxStatusMessage = 2048;
+  if (message.size() > kMaxStatusMessage) message = message.substr(0, kMaxStatusMessage) + "... (cut)";
+  return grpc::Status(code, message);
+}
+
 template <typename F>
 grpc::Status guarded(F&& body) {
   try {
-    return body();
+    const grpc::Status s = body();
+    return s.ok() ? s : bounded(s.error_code(), s.error_message());
   } catch (const ApiError& e) {
-    return grpc::Status(e.code, e.what());
+    return bounded(e.code, e.what());
   } catch (const std::invalid_argument& e) {
-    return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+    return bounded(grpc::StatusCode::INVALID_ARGUMENT, e.what());
   } catch (const std::exception& e) {
-    return grpc::Status(grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
+    return bounded(grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
   }
 }
 
@@ -33,6 +43,13 @@ grpc::Status guarded(F&& body) {
   do {                                                         \
     const grpc::Status auth_status = auth_.check(*(ctx), role); \
     if (!auth_status.ok()) return auth_status;                 \
+  } while (0)
+
+// After authorization: every field of the request within its bounds (request_bounds.h).
+#define OMNIVIEW_CHECK_BOUNDS(req)                                    \
+  do {                                                                \
+    const grpc::Status bounds_status = check_request_bounds(*(req));  \
+    if (!bounds_status.ok()) return bounds_status;                    \
   } while (0)
 
 constexpr auto kPoll = std::chrono::milliseconds(100);  // how often a waiting stream checks for cancellation
@@ -119,6 +136,7 @@ void OmniviewService::release_stream(const std::string& peer) {
 grpc::Status OmniviewService::ListCameras(grpc::ServerContext* ctx, const v1::ListCamerasRequest* req,
                                           v1::ListCamerasResponse* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     for (auto& c : pipeline_.cameras(req->source())) *resp->add_cameras() = std::move(c);
     return grpc::Status::OK;
@@ -127,6 +145,7 @@ grpc::Status OmniviewService::ListCameras(grpc::ServerContext* ctx, const v1::Li
 
 grpc::Status OmniviewService::CreateView(grpc::ServerContext* ctx, const v1::CreateViewRequest* req, v1::View* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     if (!req->spec().has_name() || req->spec().name().empty()) {
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "spec.name is required: every view needs a name");
@@ -138,6 +157,7 @@ grpc::Status OmniviewService::CreateView(grpc::ServerContext* ctx, const v1::Cre
 
 grpc::Status OmniviewService::GetView(grpc::ServerContext* ctx, const v1::GetViewRequest* req, v1::View* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     *resp = pipeline_.get_view(req->name());
     return grpc::Status::OK;
@@ -155,6 +175,7 @@ grpc::Status OmniviewService::ListViews(grpc::ServerContext* ctx, const v1::List
 
 grpc::Status OmniviewService::UpdateView(grpc::ServerContext* ctx, const v1::UpdateViewRequest* req, v1::View* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     *resp = pipeline_.update_view(req->name(), req->set(), req->delta());
     return grpc::Status::OK;
@@ -164,6 +185,7 @@ grpc::Status OmniviewService::UpdateView(grpc::ServerContext* ctx, const v1::Upd
 grpc::Status OmniviewService::DeleteView(grpc::ServerContext* ctx, const v1::DeleteViewRequest* req,
                                          v1::DeleteViewResponse*) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     pipeline_.delete_view(req->name());
     return grpc::Status::OK;
@@ -173,6 +195,7 @@ grpc::Status OmniviewService::DeleteView(grpc::ServerContext* ctx, const v1::Del
 grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::StreamFramesRequest* req,
                                            grpc::ServerWriter<v1::Frame>* writer) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     const EncodingKey key = encoding_key(req->encoding(), req->quality(), req->gray());
     if (!(req->max_rate_hz() >= 0)) {
@@ -220,8 +243,14 @@ grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::S
 
 grpc::Status OmniviewService::GetSnapshot(grpc::ServerContext* ctx, const v1::SnapshotRequest* req, v1::Frame* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     const EncodingKey key = encoding_key(req->encoding(), req->quality(), req->gray());
+    constexpr int kMaxSnapshotWaitMs = 60000;
+    if (req->timeout_ms() < 0 || req->timeout_ms() > kMaxSnapshotWaitMs) {
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          "timeout_ms must be 0..60000 (0: 5000), got " + std::to_string(req->timeout_ms()));
+    }
     const int timeout_ms = req->timeout_ms() > 0 ? req->timeout_ms() : 5000;
     auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, 0);
     struct Unsubscribe {
@@ -250,6 +279,7 @@ grpc::Status OmniviewService::GetSnapshot(grpc::ServerContext* ctx, const v1::Sn
 grpc::Status OmniviewService::PixelToRay(grpc::ServerContext* ctx, const v1::PixelToRayRequest* req,
                                          v1::PixelToRayResponse* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     // Pixel centres are at integers, so the image spans [-0.5, W - 0.5]; a click outside it
     // has no ray (the surface would extrapolate one that no camera pixel stands for).
@@ -269,6 +299,7 @@ grpc::Status OmniviewService::PixelToRay(grpc::ServerContext* ctx, const v1::Pix
 grpc::Status OmniviewService::PointToPixel(grpc::ServerContext* ctx, const v1::PointToPixelRequest* req,
                                            v1::PointToPixelResponse* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     *resp = pipeline_.point_to_pixel(req->view(), from_proto(req->point()), req->frame());
     return grpc::Status::OK;
@@ -286,6 +317,7 @@ grpc::Status OmniviewService::GetStatus(grpc::ServerContext* ctx, const v1::GetS
 grpc::Status OmniviewService::SetJointPositions(grpc::ServerContext* ctx, const v1::SetJointPositionsRequest* req,
                                                 v1::JointPositions* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     const JointMap positions(req->positions().begin(), req->positions().end());
     *resp = pipeline_.set_joint_positions(req->source(), positions, req->clear());
@@ -296,6 +328,7 @@ grpc::Status OmniviewService::SetJointPositions(grpc::ServerContext* ctx, const 
 grpc::Status OmniviewService::GetJointPositions(grpc::ServerContext* ctx, const v1::GetJointPositionsRequest* req,
                                                 v1::JointPositions* resp) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     *resp = pipeline_.joint_positions(req->source());
     return grpc::Status::OK;
@@ -305,6 +338,7 @@ grpc::Status OmniviewService::GetJointPositions(grpc::ServerContext* ctx, const 
 grpc::Status OmniviewService::StreamSourceFrames(grpc::ServerContext* ctx, const v1::StreamSourceFramesRequest* req,
                                                  grpc::ServerWriter<v1::SourceFrame>* writer) {
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     ctx->AddInitialMetadata("omniview-stream-limits",
                             "delivery=queued; record_queue_frame_sets=" +

@@ -97,8 +97,12 @@ grpc::Status Authenticator::check(const grpc::ServerContext& ctx, Role needed, C
 void Authenticator::log(const grpc::ServerContext& ctx, const grpc::Status& status, const Caller& caller) const {
   const std::string peer = ctx.peer();
   if (!status.ok()) {
+    const auto left_out = refusals_.admit(peer);
+    if (!left_out) return;
     std::cerr << "omniviewd: refused a call from " << peer
-              << (caller.label.empty() ? "" : " with " + caller.label) << ": " << status.error_message() << std::endl;
+              << (caller.label.empty() ? "" : " with " + caller.label) << ": " << status.error_message()
+              << (*left_out ? " (and " + std::to_string(*left_out) + " more refusals from this host not logged)" : "")
+              << std::endl;
     return;
   }
   // Once per peer and token: a joystick's 30 updates a second would drown the log.

@@ -14,6 +14,7 @@
 #include <grpcpp/server_context.h>
 #include <grpcpp/support/status.h>
 
+#include "server/auth/refusal_log.h"
 #include "server/config/daemon_config.h"
 
 namespace omniview {
@@ -33,7 +34,8 @@ class Authenticator {
   bool enabled() const { return !tokens_.empty(); }
 
   // OK, UNAUTHENTICATED or PERMISSION_DENIED for a call that needs `needed`; `caller`
-  // (optional) receives the identity on success. With tokens configured, logs each refusal
+  // (optional) receives the identity on success. With tokens configured, logs refusals
+  // (at most a few per peer host every 10 s, then how many were left out: RefusalLog)
   // and a peer's first call with each token, by the token's label: never its value.
   grpc::Status check(const grpc::ServerContext& ctx, Role needed, Caller* caller = nullptr) const;
 
@@ -50,6 +52,7 @@ class Authenticator {
   std::vector<TokenConfig> tokens_;
   mutable std::mutex logged_mutex_;
   mutable std::set<std::string> logged_;  // "peer|label" already logged as authenticated
+  mutable RefusalLog refusals_;
 };
 
 // The token in "Bearer <token>" (scheme case-insensitive, as RFC 6750 allows); nullopt

@@ -3,6 +3,7 @@
 // refuses with a message naming the line to fix.
 #include "server/config/daemon_config.h"
 
+#include <cstdlib>
 #include <filesystem>
 
 #include "server/config/config_parts.h"
@@ -10,28 +11,14 @@
 namespace omniview {
 namespace {
 
-// What a remote peer could do that the config does not prevent; empty when TLS and tokens
-// are both on.
-std::string remote_exposure(const DaemonConfig& config) {
-  const bool tls = config.tls.has_value();
-  const bool tokens = !config.tokens.empty();
-  if (tls && tokens) return "";
-  if (!tls && !tokens) {
-    return "there is neither tls nor tokens: anyone who can reach it can watch the cameras and change the views";
-  }
-  if (!tls) return "there is no tls: the tokens and the camera images cross the network in plaintext";
-  return "there are no tokens: anyone who can reach it can watch the cameras and change the views";
-}
+constexpr char kListenEnv[] = "OMNIVIEW_LISTEN";
 
-void check_exposure(const YamlReader& r, const DaemonConfig& config) {
-  if (config.allow_insecure_remote || is_loopback_address(config.listen)) return;
-  const auto exposure = remote_exposure(config);
-  if (exposure.empty()) return;
-  const YAML::Node listen = r.root()["listen"];
-  r.fail(listen ? listen : r.root(), "listen",
-         "'" + config.listen + "' is reachable from other machines, but " + exposure +
-             ". Configure tls and tokens, or listen on 127.0.0.1, or set allow_insecure_remote: true "
-             "if the network is trusted");
+// A --listen or OMNIVIEW_LISTEN value replaces the file's; its mistakes are its own.
+void apply_listen_override(DaemonConfig& config, const std::optional<std::string>& value, const std::string& from) {
+  if (!value) return;
+  if (const auto problem = listen_address_problem(*value); !problem.empty()) throw ConfigError(from + ": " + problem);
+  config.listen = *value;
+  config.listen_from = from;
 }
 
 }  // namespace
@@ -42,7 +29,26 @@ std::string resolve_config_path(const std::string& folder, const std::string& pa
   return (std::filesystem::path(folder) / p).lexically_normal().string();
 }
 
-DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& folder) {
+ListenOptions ListenOptions::from_environment(std::optional<std::string> flag) {
+  ListenOptions options;
+  options.flag = std::move(flag);
+  if (const char* env = std::getenv(kListenEnv); env && *env) options.env = env;
+  return options;
+}
+
+void check_listen_exposure(const DaemonConfig& config, const HostResolver& resolve) {
+  const EndpointGuards endpoint{config.listen, config.tls.has_value(), !config.tokens.empty(),
+                                config.allow_insecure_remote};
+  const std::string refusal = exposure_refusal(endpoint, resolve);
+  if (refusal.empty()) return;
+  if (!config.listen_from.empty()) throw ConfigError(config.listen_from + ": " + refusal);
+  if (!config.reader) throw ConfigError(config.file + ": listen: " + refusal);
+  const YamlReader& r = *config.reader;
+  const YAML::Node listen = r.root()["listen"];
+  r.fail(listen ? listen : r.root(), "listen", refusal);
+}
+
+DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& folder, const ListenOptions& options) {
   using namespace config_parts;
   const auto shared = std::make_shared<const YamlReader>(reader);
   const YamlReader& r = *shared;
@@ -72,16 +78,18 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
     apply_views_file(r, views_file, config.views_file, config.sources, config.limits, config.views);
   }
   config.robot_models = parse_robot_models(r, root["robot_models"], config.sources, folder);
-  check_exposure(r, config);
+  apply_listen_override(config, options.env, kListenEnv);
+  apply_listen_override(config, options.flag, "--listen");
+  check_listen_exposure(config, options.resolve);
   return config;
 }
 
-DaemonConfig load_daemon_config(const std::string& path) {
+DaemonConfig load_daemon_config(const std::string& path, const ListenOptions& listen) {
   const auto reader = YamlReader::from_file(path);
   std::error_code ec;
   auto folder = std::filesystem::absolute(path, ec).parent_path().lexically_normal();
   if (ec) folder = std::filesystem::path(path).parent_path();
-  return parse_daemon_config(reader, folder.string());
+  return parse_daemon_config(reader, folder.string(), listen);
 }
 
 }  // namespace omniview

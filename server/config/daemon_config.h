@@ -30,6 +30,7 @@
 
 #include "core/io/yaml_reader.h"
 #include "core/view/view_spec.h"
+#include "server/exposure/exposure_rule.h"
 
 namespace omniview {
 
@@ -81,7 +82,8 @@ struct RobotModelEntry {
 struct DaemonConfig {
   std::string file;    // the config file, for messages
   std::string folder;  // relative paths resolve against it
-  std::string listen = "127.0.0.1:50051";
+  std::string listen = "127.0.0.1:50051";  // the effective address (see ListenOptions)
+  std::string listen_from;                  // "" (the file, or the default), "--listen" or "OMNIVIEW_LISTEN"
   std::optional<TlsConfig> tls;
   std::vector<TokenConfig> tokens;  // empty: no authentication (every caller is an operator)
   bool allow_insecure_remote = false;
@@ -95,15 +97,29 @@ struct DaemonConfig {
   std::string views_file;
 };
 
-// Loads and checks a config file: keys, types, files that must exist, roles, limits, view
-// definitions (validated, and within the limits), unique source and view names, and that a
-// non-loopback listen address has TLS and tokens or allow_insecure_remote. Throws
-// ConfigError "file:line: key: message".
-DaemonConfig load_daemon_config(const std::string& path);
-DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& folder);
+// Where the listen address may come from besides the file, strongest first: the --listen
+// flag, then the OMNIVIEW_LISTEN environment variable (set and not empty), then the file's
+// `listen`, then 127.0.0.1:50051.
+struct ListenOptions {
+  std::optional<std::string> flag;
+  std::optional<std::string> env;
+  HostResolver resolve;  // how host names resolve (empty: getaddrinfo); tests and fuzzing pass their own
+  // `flag` as given, and OMNIVIEW_LISTEN from this process's environment.
+  static ListenOptions from_environment(std::optional<std::string> flag);
+};
 
-// True for 127.0.0.0/8, ::1, localhost (and unix: sockets).
-bool is_loopback_address(const std::string& listen);
+// Loads and checks a config file: keys, types, files that must exist, roles, limits, view
+// definitions (validated, and within the limits), unique source and view names; then the
+// listen address overrides in `listen`, and the exposure rule (server/exposure) on the
+// effective address. Throws ConfigError "file:line: key: message", or "--listen: message" /
+// "OMNIVIEW_LISTEN: message" when the override is at fault.
+DaemonConfig load_daemon_config(const std::string& path, const ListenOptions& listen = {});
+DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& folder, const ListenOptions& listen = {});
+
+// The exposure rule on the config's effective listen address, blaming the file's `listen`
+// line or the override it came from. Throws ConfigError. Config loading and the daemon's
+// start both call it (an address's reach can change between the two: a folder's mode).
+void check_listen_exposure(const DaemonConfig& config, const HostResolver& resolve = {});
 
 // --- Additions -------------------------------------------------------------------------
 // Paths in TlsConfig are stored resolved against the config's folder.

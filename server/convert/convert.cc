@@ -185,7 +185,9 @@ void apply_delta(const v1::ViewDelta& d, ViewSpec& s) {
   s.roll_deg += d.roll_deg();
   // Keep pan in (-180, 180] so repeated joystick steps do not grow without bound, and stop
   // tilt at straight down or up (a joystick held down must not flip the view over).
-  s.yaw_deg = std::remainder(s.yaw_deg, 360.0);
+  // Only a step wraps: a yaw of 1e300 set outright is refused by validate(), not folded.
+  if (d.yaw_deg() != 0) s.yaw_deg = std::remainder(s.yaw_deg, 360.0);
+  if (d.roll_deg() != 0) s.roll_deg = std::remainder(s.roll_deg, 360.0);
   if (d.pitch_deg() != 0) s.pitch_deg = std::clamp(s.pitch_deg, -90.0, 90.0);
   const double zoom = d.zoom();
   if (zoom == 0 || zoom == 1) return;

@@ -1,19 +1,24 @@
 #include "server/daemon/daemon.h"
 
+#include <algorithm>
+
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
 #include <grpcpp/server_builder.h>
 
 #include "core/robot/model/urdf_loader.h"
 #include "server/auth/server_credentials.h"
+#include "server/exposure/exposure_rule.h"
+#include "server/exposure/host_port.h"
 #include "server/source/source_registry.h"
 
 namespace omniview {
 
 namespace {
 
-// "host:port" with the port replaced.
+// "host:port" with the port replaced; a unix socket's address as it is.
 std::string with_port(const std::string& listen, int port) {
+  if (is_unix_address(listen)) return listen;
   const auto colon = listen.rfind(':');
   return listen.substr(0, colon + 1) + std::to_string(port);
 }
@@ -32,10 +37,25 @@ std::shared_ptr<const RobotModelSetup> load_robot_model(const RobotModelEntry& e
   return setup;
 }
 
+// robot_models[].frame must be a frame of the source's rig: a typo would otherwise only
+// show as a robot missing from the views (and a line in the log).
+void check_robot_model_frame(const RobotModelEntry& entry, const Rig& rig, const YamlReader& reader) {
+  if (entry.frame.empty()) return;
+  const auto known = rig.known_frames();
+  if (std::find(known.begin(), known.end(), entry.frame) != known.end()) return;
+  std::string list;
+  for (const auto& f : known) list += (list.empty() ? "" : ", ") + f;
+  reader.fail(entry.node["frame"] ? entry.node["frame"] : entry.node, entry.path + ".frame",
+              "source '" + entry.source + "' has no frame '" + entry.frame + "' (its frames: " + list + ")");
+}
+
 }  // namespace
 
 Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
   const YamlReader& reader = *config_.reader;
+  // The exposure rule once more where the address is used: --check and a start ask it alike,
+  // whoever built the config.
+  check_listen_exposure(config_);
   PipelineLimits limits;
   limits.max_view_pixels = config_.limits.max_view_pixels;
   limits.max_views = config_.limits.max_views;
@@ -57,6 +77,7 @@ Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
     }
   }
   for (const auto& m : config_.robot_models) {
+    check_robot_model_frame(m, *pipeline_->rig(m.source), reader);
     try {
       pipeline_->set_robot_model(m.source, load_robot_model(m));
     } catch (const std::exception& e) {
@@ -101,9 +122,17 @@ Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   server_ = builder.BuildAndStart();
   if (!server_ || port == 0) {
+    const std::string why =
+        "cannot listen on '" + config_.listen + "' (address in use, or not an address of this machine?)";
+    if (!config_.listen_from.empty()) throw ConfigError(config_.listen_from + ": " + why);
     const YAML::Node listen = reader.root()["listen"];
-    reader.fail(listen ? listen : reader.root(), "listen",
-                "cannot listen on '" + config_.listen + "' (address in use, or not an address of this machine?)");
+    reader.fail(listen ? listen : reader.root(), "listen", why);
+  }
+  try {
+    restrict_unix_socket(config_.listen);  // owner and group only, whatever the umask
+  } catch (const std::exception& e) {
+    server_->Shutdown();
+    throw ConfigError(std::string("listen: ") + e.what());
   }
   // Health by service name too (grpc_health_probe -service=omniview.v1.Omniview).
   server_->GetHealthCheckService()->SetServingStatus(v1::Omniview::service_full_name(), true);

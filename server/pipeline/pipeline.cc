@@ -8,6 +8,7 @@
 #include <opencv2/core.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "core/io/quote.h"
 #include "core/map/apply.h"
 #include "core/view/view_yaml.h"
 #include "server/convert/convert.h"
@@ -150,13 +151,18 @@ std::vector<v1::Camera> Pipeline::cameras(const std::string& source) const {
 // ---------------------------------------------------------------- views
 
 std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uint64_t revision) const {
-  const std::string what = "view '" + spec.name + "'";
   if (spec.name.empty()) throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "a view needs a name");
+  const std::string what = "view " + quote_prefix(spec.name);
   if (static_cast<int64_t>(spec.width) * spec.height > limits_.max_view_pixels && spec.width > 0 && spec.height > 0) {
     throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
                    what + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                        " pixels is more than this daemon allows (limits.max_view_pixels = " +
                        std::to_string(limits_.max_view_pixels) + ")");
+  }
+  try {
+    validate(spec);  // the one check of every field, before anything uses one (CreateView, UpdateView, config)
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
   }
   auto state = std::make_shared<ViewState>();
   state->spec = spec;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "test_support.h"
 
 namespace omniview {
@@ -159,7 +161,12 @@ TEST(DaemonConfig, ListenAddressForm) {
   expect_error(base + "listen: ':5'\n", {"d.yaml:3: listen:", "names no host"});
   expect_error(base + "listen: [1, 2]\n", {"d.yaml:3: listen: expected a string"});
   EXPECT_EQ(parse(base + "listen: '[::1]:0'\n").listen, "[::1]:0");
-  EXPECT_EQ(parse(base + "listen: unix:/tmp/omniview.sock\n").listen, "unix:/tmp/omniview.sock");
+  testing::TempDir closed;  // a folder only its owner can enter
+  std::filesystem::permissions(closed.path(), std::filesystem::perms::owner_all, std::filesystem::perm_options::replace);
+  const std::string socket = "unix:" + (closed / "omniview.sock");
+  EXPECT_EQ(parse(base + "listen: " + socket + "\n").listen, socket);
+  // /tmp lets every user in: the exposure rule (server/exposure) refuses it without tls and tokens.
+  expect_error(base + "listen: unix:/tmp/omniview.sock\n", {"d.yaml:3: listen:", "folder '/tmp'"});
 }
 
 TEST(DaemonConfig, LoadsFromAFileAndResolvesAgainstItsFolder) {

@@ -167,8 +167,13 @@ TEST_F(SecurityConfig, RemoteListenNeedsTlsAndTokensOrAnExplicitOptOut) {
   EXPECT_NO_THROW(parse(remote + tls + tokens));
   EXPECT_NO_THROW(parse(remote + "allow_insecure_remote: true\n"));
   EXPECT_NO_THROW(parse(std::string(kSources) + "listen: localhost:50051\n"));
-  EXPECT_NO_THROW(parse(std::string(kSources) + "listen: unix:/tmp/omniview.sock\n"));
-  expect_error(std::string(kSources) + "listen: robot.local:50051\n", {"d.yaml:3: listen:", "reachable"});
+  // /tmp lets every user in: a socket there needs the same guards as a network address.
+  expect_error(std::string(kSources) + "listen: unix:/tmp/omniview.sock\n",
+               {"d.yaml:3: listen:", "folder '/tmp'", "every user of this machine can enter", "chmod o-rwx"});
+  std::filesystem::permissions(dir_.path(), std::filesystem::perms::others_all, std::filesystem::perm_options::remove);
+  EXPECT_NO_THROW(parse(std::string(kSources) + "listen: unix:" + (dir_ / "o.sock") + "\n"));
+  // A host name is resolved (here it may resolve to another machine, or not at all: refused either way).
+  expect_error(std::string(kSources) + "listen: robot.invalid:50051\n", {"d.yaml:3: listen:", "robot.invalid"});
 }
 
 }  // namespace

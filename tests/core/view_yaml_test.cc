@@ -17,7 +17,7 @@ void expect_error(const std::string& name, const std::string& text, std::initial
 
 TEST(ViewYaml, RangeErrorsNameTheLineOfTheKey) {
   expect_error("fov.yaml", "name: v\ntype: fisheye\nwidth: 64\nfov_deg: 0\nheight: 32\n",
-               {"fov.yaml:4: fov_deg: view 'v': fov_deg must be in (0, 360], got 0"});
+               {"fov.yaml:4: fov_deg: view 'v': fov_deg must be in [0.01, 360], got 0"});
   expect_error("hfov.yaml", "type: perspective\nhfov_deg: 180\n", {"hfov.yaml:2: hfov_deg:"});
   expect_error("width.yaml", "type: perspective\nheight: 8\nwidth: 0\n", {"width.yaml:3: width:", "between 1"});
   // A bird's-eye view's height_m, though validate() calls it "height".

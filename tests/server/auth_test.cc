@@ -145,5 +145,29 @@ TEST(Auth, TlsWithATestCaAndClientCertificates) {
   EXPECT_NE(py.output.find("saved 1 frames"), std::string::npos) << py.output;
 }
 
+// A loop of bad tokens once wrote 500 log lines in 0.6 s: refusals are logged a few at a
+// time per peer host, the rest counted.
+TEST(Auth, RefusalsAreLoggedAtABoundedRate) {
+  TempDir dir;
+  DaemonProcess daemon(dir, example_config(10, kTokens));
+  v1::ListViewsResponse list;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < 300; ++i) {
+    auto stub = make_stub(daemon.address());  // a new connection each time: still one host
+    ASSERT_EQ(stub->ListViews(make_context("bad-token-" + std::to_string(i)).get(), {}, &list).error_code(),
+              grpc::StatusCode::UNAUTHENTICATED);
+  }
+  // The honest client is still served.
+  EXPECT_TRUE(make_stub(daemon.address())->ListViews(make_context("viewer-secret-123").get(), {}, &list).ok());
+  const std::string log = daemon.log();
+  size_t lines = 0;
+  for (size_t at = log.find("refused a call"); at != std::string::npos; at = log.find("refused a call", at + 1)) ++lines;
+  EXPECT_GE(lines, 1u) << log;
+  // Five a 10 s window (a slow sanitizer run may span several windows).
+  const auto windows = 2 + std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - t0).count() / 10;
+  EXPECT_LE(lines, static_cast<size_t>(5 * windows)) << "refusals flood the log:\n" << log.substr(0, 4000);
+  EXPECT_EQ(log.find("bad-token"), std::string::npos) << "a token was logged";
+}
+
 }  // namespace
 }  // namespace omniview::testing

@@ -202,22 +202,22 @@ TEST(Overlay, JointsNeedAnOperatorAndARobotModel) {
   EXPECT_NE(none.error_message().find("robot_models"), std::string::npos) << none.error_message();
 }
 
-// A model frame the source's rig does not have cannot be known before the source delivers
-// (a robot's frame tree comes with it): the log says so once the view renders.
-TEST(Overlay, AModelFrameTheRigLacksIsSaidInTheLog) {
+// A model frame the source's rig lacks is a config error like any other: --check and a
+// start refuse it, naming the entry's line and the frames there are.
+TEST(Overlay, AModelFrameTheRigLacksRefusesToStart) {
   TempDir dir;
   std::string config = overlay_config();
   const std::string model_frame = "    frame: base_link\n";
   config.replace(config.find(model_frame), model_frame.size(), "    frame: nosuchframe\n");
-  DaemonProcess daemon(dir, config);
-  auto stub = make_stub(daemon.address());
-  v1::SnapshotRequest r;
-  r.set_view("down");
-  v1::Frame f;
-  ASSERT_TRUE(stub->GetSnapshot(make_context().get(), r, &f).ok());
-  const std::string log = daemon.log();
-  EXPECT_NE(log.find("view 'down': robot overlay not drawn: frame 'nosuchframe'"), std::string::npos) << log;
-  EXPECT_NE(log.find("base_link"), std::string::npos) << "lists the frames there are: " << log;
+  const std::string file = dir.write("bad.yaml", config);
+  for (const std::string check : {" --check", ""}) {
+    const auto r = run_process(std::string(OMNIVIEWD) + check + " --config " + file);
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_NE(r.output.find("bad.yaml:"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("robot_models[0].frame: source 'examples' has no frame 'nosuchframe'"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("base_link"), std::string::npos) << "lists the frames there are: " << r.output;
+  }
 }
 
 TEST(Overlay, ModelMistakesRefuseToStartNamingTheEntry) {
