@@ -585,8 +585,17 @@ TEST(SpotSource, TheReadmesCreatedViewIsCovered) {
                              " --set distance=1.5 --server " + daemon.address());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+  // Views nobody watches get their maps (and so their coverage) once the source has
+  // announced its rig, on the render thread: wait until every view has one.
   v1::Status st;
-  ASSERT_TRUE(stub->GetStatus(make_context().get(), v1::GetStatusRequest(), &st).ok());
+  const auto all_mapped = [&] {
+    if (!stub->GetStatus(make_context().get(), v1::GetStatusRequest(), &st).ok()) return false;
+    for (const auto& v : st.views()) {
+      if (v.coverage() <= 0) return false;
+    }
+    return st.views_size() == 4;
+  };
+  EXPECT_TRUE(eventually(all_mapped, std::chrono::milliseconds(static_cast<int64_t>(5000 * test_time_scale()))));
   for (const auto& v : st.views()) {
     std::cout << "view " << v.name() << ": coverage " << v.coverage() << "\n";
     if (v.name() == "left") EXPECT_GT(v.coverage(), 0.97);
