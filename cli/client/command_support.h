@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cli/args.h"
+#include "core/io/quote.h"
 
 namespace omniview::cli {
 
@@ -43,6 +44,10 @@ class Table {
 };
 
 std::string fixed(double value, int decimals);
+
+// "view 'NAME'" for messages, with at most a short prefix of a name the user typed (a
+// 20 000-character name echoed whole buries the daemon's own, short, error).
+inline std::string view_label(const std::string& name) { return "view " + quote_prefix(name); }
 // "2026-11-22T18:40:01.123Z"
 std::string format_time(const google::protobuf::Timestamp& t);
 double to_seconds(const google::protobuf::Timestamp& t);

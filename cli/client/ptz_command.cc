@@ -65,7 +65,7 @@ v1::View get_view(Connection& connection, const std::string& name) {
   v1::View view;
   grpc::ClientContext context;
   connection.prepare(context, true);
-  connection.check(connection.stub().GetView(&context, request, &view), "view '" + name + "'");
+  connection.check(connection.stub().GetView(&context, request, &view), view_label(name));
   return view;
 }
 
@@ -121,7 +121,7 @@ int ptz_command(const std::vector<std::string>& argv) {
                        "or set its field of view with 'omniview views update " + name + " --set fov_deg=DEG'");
     }
     if (type != v1::PERSPECTIVE && type != v1::BIRDSEYE && type != v1::FISHEYE) {
-      throw UsageError("view '" + name + "' is a " + to_string(from_proto(type, "view '" + name + "'")) +
+      throw UsageError("view '" + name + "' is a " + to_string(from_proto(type, view_label(name))) +
                        " panorama, which has no zoom: narrow it with 'omniview views update " + name +
                        " --set azimuth_span_deg=DEG'" +
                        (type == v1::CYLINDRICAL ? " (and vfov_deg)" : " (and lat_min_deg, lat_max_deg)"));
@@ -130,7 +130,7 @@ int ptz_command(const std::vector<std::string>& argv) {
   v1::View view;
   grpc::ClientContext context;
   connection.prepare(context, true);
-  connection.check(connection.stub().UpdateView(&context, request, &view), "view '" + name + "'");
+  connection.check(connection.stub().UpdateView(&context, request, &view), view_label(name));
   std::cout << describe(view) << "\n";
   if (delta.pitch_deg() != 0 && std::abs(view.spec().pitch_deg()) == 90) {
     std::cout << "(tilt stops at " << (view.spec().pitch_deg() > 0 ? "90 deg, straight down" : "-90 deg, straight up")

@@ -105,7 +105,7 @@ int show_command(const std::vector<std::string>& argv) {
   const grpc::Status status = reader->Finish();
   cv::destroyAllWindows();
   if (!status.ok() && !(stopper.stopped() && status.error_code() == grpc::StatusCode::CANCELLED)) {
-    connection.check(status, "view '" + request.view() + "'");
+    connection.check(status, view_label(request.view()));
   }
   return stopper.interrupted() ? 130 : 0;
 }

@@ -62,7 +62,7 @@ int snapshot_command(const std::vector<std::string>& argv) {
   // The daemon may wait `wait_s` for a frame; give the call that long on top of --timeout.
   context.set_deadline(std::chrono::system_clock::now() + connection.options().deadline +
                        std::chrono::milliseconds(static_cast<int64_t>(wait_s * 1000)));
-  connection.check(connection.stub().GetSnapshot(&context, request, &frame), "view '" + request.view() + "'");
+  connection.check(connection.stub().GetSnapshot(&context, request, &frame), view_label(request.view()));
   if (to_stdout) {
     const std::string& data = frame.data();
     if (std::fwrite(data.data(), 1, data.size(), stdout) != data.size() || std::fflush(stdout) != 0) {

@@ -77,7 +77,7 @@ int stream_to_stdout(const Args& args, int wanted) {
     if (reader_gone) std::cerr << " (the reader closed the pipe)";
     std::cerr << "\n";
   }
-  if (failed) connection.check(status, "view '" + request.view() + "'");
+  if (failed) connection.check(status, view_label(request.view()));
   if (reader_gone) return 0;
   if (wanted > 0 && written < wanted) return stopper.interrupted() ? 130 : 1;
   return stopper.interrupted() ? 130 : 0;
@@ -143,7 +143,7 @@ int stream_command(const std::vector<std::string>& argv) {
     }
     std::cout << "\n" << std::flush;
   }
-  if (failed) connection.check(status, "view '" + request.view() + "'");
+  if (failed) connection.check(status, view_label(request.view()));
   if (written < wanted) return stopper.interrupted() ? 130 : 1;
   return 0;
 }

@@ -43,11 +43,9 @@ Manages omniviewd's views (create, update and delete need an operator token).
 )") + settable_keys_help() +
                           "\n" + connection_help();
 
-std::string view_label(const std::string& name) { return "view '" + name + "'"; }
-
 std::string type_name(const v1::ViewSpec& s) {
   try {
-    return to_string(from_proto(s.type(), "view '" + s.name() + "'"));
+    return to_string(from_proto(s.type(), view_label(s.name())));
   } catch (const std::invalid_argument&) {
     return "type " + std::to_string(static_cast<int>(s.type()));
   }

@@ -127,7 +127,7 @@ int watch_command(const std::vector<std::string>& argv) {
               << " fps), " << summary_of_skips(skipped_total, request.max_rate_hz() > 0) << "\n"
               << std::flush;
   }
-  if (failed) connection.check(status, "view '" + request.view() + "'");
+  if (failed) connection.check(status, view_label(request.view()));
   return 0;
 }
 

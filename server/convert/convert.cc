@@ -180,6 +180,16 @@ double hfov_from_zoom(double zoom) { return 2 * std::atan(1.0 / zoom) * 180 / M_
 double zoom_from_hfov(double hfov_deg) { return 1.0 / std::tan(hfov_deg * M_PI / 360); }
 
 void apply_delta(const v1::ViewDelta& d, ViewSpec& s) {
+  // A joystick step is a few degrees; one larger than a turn is a client's mistake that
+  // wrapping would hide (a step of 1e308 would land on an arbitrary angle).
+  const std::pair<double, const char*> steps[] = {
+      {d.yaw_deg(), "delta.yaw_deg"}, {d.pitch_deg(), "delta.pitch_deg"}, {d.roll_deg(), "delta.roll_deg"}};
+  for (const auto& [step, field] : steps) {
+    if (!(std::abs(step) <= 360)) {
+      throw std::invalid_argument(std::string(field) + " must be a step within +-360 degrees, got " +
+                                  std::to_string(step));
+    }
+  }
   s.yaw_deg += d.yaw_deg();
   s.pitch_deg += d.pitch_deg();
   s.roll_deg += d.roll_deg();
@@ -192,7 +202,7 @@ void apply_delta(const v1::ViewDelta& d, ViewSpec& s) {
   const double zoom = d.zoom();
   if (zoom == 0 || zoom == 1) return;
   if (!(zoom > 0) || !std::isfinite(zoom)) {
-    throw std::invalid_argument("view '" + s.name + "': delta.zoom must be > 0, got " + std::to_string(zoom));
+    throw std::invalid_argument("delta.zoom must be > 0, got " + std::to_string(zoom));
   }
   switch (s.type) {
     case ViewType::kPerspective:

@@ -145,6 +145,8 @@ TEST_F(RequestBounds, ZoomAndStepsThatWouldLeaveTheBoundsAreRefused) {
   expect_refused(delta([](v1::ViewDelta& d) { d.set_zoom(-2); }), "zoom", "zoom -2");
   expect_refused(delta([](v1::ViewDelta& d) { d.set_yaw_deg(kInf); }), "yaw_deg", "yaw step inf");
   expect_refused(delta([](v1::ViewDelta& d) { d.set_roll_deg(kNaN); }), "roll_deg", "roll step NaN");
+  expect_refused(delta([](v1::ViewDelta& d) { d.set_yaw_deg(1e308); }), "delta.yaw_deg", "yaw step 1e308");
+  expect_refused(delta([](v1::ViewDelta& d) { d.set_pitch_deg(-361); }), "delta.pitch_deg", "pitch step -361");
   // A joystick's steps stay within bounds however long it is held: pan and roll wrap.
   for (int i = 0; i < 40; ++i) {
     ASSERT_TRUE(delta([](v1::ViewDelta& d) {
