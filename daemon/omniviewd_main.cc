@@ -12,6 +12,7 @@
 #include "core/map/worker_threads.h"
 #include "server/config/daemon_config.h"
 #include "server/daemon/daemon.h"
+#include "server/daemon/grpc_log.h"
 #include "server/source/source_registry.h"
 #include "server/sources/builtin_sources.h"
 #include "spot_adapter/source/spot_source.h"
@@ -58,6 +59,7 @@ void keep_image_buffers_in_the_heap() {
 
 int main(int argc, char** argv) {
   keep_image_buffers_in_the_heap();
+  omniview::limit_grpc_log_rate();
   omniview::register_builtin_sources();
   omniview::spot::register_spot_source();
   omniview::insta360::register_insta360_sources();

@@ -169,5 +169,32 @@ TEST(Auth, RefusalsAreLoggedAtABoundedRate) {
   EXPECT_EQ(log.find("bad-token"), std::string::npos) << "a token was logged";
 }
 
+// gRPC itself logs a failed TLS handshake per connection: a plaintext client in a loop
+// must not flood the daemon's log through it either.
+TEST(Auth, GrpcsOwnLogLinesAreRateLimited) {
+  TempDir dir;
+  const auto certs = dir.path() / "certs";
+  ASSERT_EQ(std::system(("bash " + std::string(OMNIVIEW_SOURCE_DIR) + "/scripts/make-test-certs.sh " +
+                         certs.string() + " > /dev/null").c_str()),
+            0);
+  const std::string tls =
+      "tls: {cert: " + (certs / "server.crt").string() + ", key: " + (certs / "server.key").string() + "}\n";
+  DaemonProcess daemon(dir, example_config(10, tls + kTokens));
+  v1::ListViewsResponse list;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < 40; ++i) {
+    auto plaintext = make_stub(daemon.address());  // a new connection each time
+    EXPECT_FALSE(plaintext->ListViews(make_context("viewer-secret-123", std::chrono::seconds(2)).get(), {}, &list).ok());
+  }
+  const std::string log = daemon.log();
+  size_t lines = 0;
+  for (size_t at = log.find("Handshake failed"); at != std::string::npos; at = log.find("Handshake failed", at + 1)) {
+    ++lines;
+  }
+  const auto windows = 2 + std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - t0).count() / 10;
+  EXPECT_GE(lines, 1u) << "gRPC no longer logs failed handshakes; this test needs another probe:\n" << log;
+  EXPECT_LE(lines, static_cast<size_t>(5 * windows)) << "gRPC's handshake failures flood the log:\n" << log.substr(0, 4000);
+}
+
 }  // namespace
 }  // namespace omniview::testing
