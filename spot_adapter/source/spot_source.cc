@@ -363,11 +363,12 @@ void SpotSource::finish_call(ImageCall& call) {
     if (answer.joints) joints_ = std::move(answer.joints);
     try {
       if (!answer.refusal.empty()) throw SpotError(SpotError::Kind::kProtocol, answer.refusal);
-      if (Clock::now() - joints_read_ > kJointsStale) {
-        // Nothing read for a while (nobody watched): the pose now, for this frame, not
-        // the one from before the pause (one round trip, once).
+      if (idle_since_last_frame_ || Clock::now() - joints_read_ > kJointsStale) {
+        // The first frame after nobody watched: the pose now, for this frame, not the one
+        // from before the pause (one round trip, once).
         joints_ = read_joint_states(session_);
         joints_read_ = Clock::now();
+        idle_since_last_frame_ = false;
       } else if (Clock::now() - joints_read_ > kJointInterval) {
         joints_read_ = Clock::now();
         joint_reader_.request(session_);
@@ -487,6 +488,7 @@ void SpotSource::run() {
       const auto now = Clock::now();
       if (wanted.empty() && calls_.in_flight() == 0) {
         report(true, connect_note_);
+        idle_since_last_frame_ = true;
         refresh_idle_joints();  // `omniview joints` stays current with nobody watching
         if (!sleep_until(now + std::chrono::seconds(1))) break;  // nobody watches: pull no images
         continue;

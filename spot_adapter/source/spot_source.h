@@ -86,6 +86,9 @@ class SpotSource : public Source {
   std::chrono::steady_clock::time_point joints_read_;
   void publish_joints();  // joints_ -> latest_joints_, for latest_joints()
   void refresh_idle_joints();
+  // Set while nobody watches: the first frame after it reads the pose (one round trip) so
+  // it never shows the legs of the last once-a-second idle read.
+  bool idle_since_last_frame_ = false;
   bool robot_state_available_ = true;  // false once the robot said it has no such service
   RobotClock clock_;
   std::chrono::steady_clock::time_point clock_updated_;
