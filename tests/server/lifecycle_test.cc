@@ -140,7 +140,20 @@ TEST(Lifecycle, WatchAndStreamSummariseWhenTheDaemonStops) {
   auto stream = std::async(std::launch::async, [&] {
     return run_process(cli + "stream front --frames 100000 -o " + (dir.path() / "frames").string());
   });
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  // Stop only once both clients receive frames: started under a sanitizer, a CLI can take
+  // longer than any fixed wait to connect, and then it rightly says "cannot reach".
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20) * test_time_scale();
+  int receiving = 0;
+  while (receiving < 2 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    v1::Status status;
+    receiving = 0;
+    if (make_stub(daemon.address())->GetStatus(make_context().get(), {}, &status).ok()) {
+      for (const auto& c : status.clients()) receiving += c.frames_sent() > 0 ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(receiving, 2) << daemon.log();  // and stop anyway: the clients end with it
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // a few frames each
   EXPECT_EQ(daemon.stop(SIGTERM), 0);
   const auto w = watch.get();
   EXPECT_EQ(w.exit_code, 1) << w.output;

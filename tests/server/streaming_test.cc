@@ -80,10 +80,11 @@ TEST(Streaming, SixteenClientsOneStalledOthersKeepTheirRateAndMemoryStaysBounded
   }
   // The stalled client can pin one frame in its slot and what gRPC buffers for it; nothing
   // may grow with time.
-#if !defined(__SANITIZE_ADDRESS__)
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
   EXPECT_LT(rss_late - rss_early, 20 * 1024) << "RSS " << rss_early << " kB -> " << rss_late << " kB";
 #else
-  // AddressSanitizer holds freed memory in its quarantine (up to 256 MiB), so RSS grows with
+  // AddressSanitizer holds freed memory in its quarantine (up to 256 MiB) and ThreadSanitizer
+  // keeps shadow memory and per-thread caches for every block it has seen, so RSS grows with
   // any churn there; the release run checks this bound.
   (void)rss_early;
   (void)rss_late;
