@@ -7,11 +7,13 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib/stages.sh
+source scripts/lib/test_costs.sh
 jobs=$(nproc)
 
 stage "install dependencies" bash scripts/install-deps.sh
 command -v ccache > /dev/null && ccache --zero-stats > /dev/null  # counts for this run only
 stage "release: build" bash scripts/build.sh
+seed_test_costs build
 stage "release: tests" ctest --test-dir build --output-on-failure -j "$jobs"
 
 # Sanitizer trees: -g1 (function names and lines, no variable info) keeps them quick to
@@ -34,6 +36,7 @@ stage "asan: configure" sanitizer_tree build-asan OMNIVIEW_SANITIZE
 stage "asan: build" cmake --build build-asan -j "$jobs"
 # Three golden sweeps repeat, at 3x3 supersampling, map code that the other golden and map
 # tests already run under ASan; their ray casting alone would take minutes here.
+seed_test_costs build-asan
 stage "asan: tests" env OMNIVIEW_TEST_TIME_SCALE=2 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
   LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp" UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-asan --output-on-failure -j "$jobs" \
@@ -48,6 +51,7 @@ tsan_targets=(omniviewd omniview views_api_test streaming_test auth_test
   request_bounds_test exposure_test)
 stage "tsan: configure" sanitizer_tree build-tsan OMNIVIEW_TSAN
 stage "tsan: build" cmake --build build-tsan -j "$jobs" --target "${tsan_targets[@]}"
+seed_test_costs build-tsan
 stage "tsan: tests" env OMNIVIEW_THREADS=1 OMNIVIEW_TEST_TIME_SCALE=3 \
   TSAN_OPTIONS="suppressions=$PWD/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
   ctest --test-dir build-tsan -L server --output-on-failure -j "$jobs" -E "$timing_bound|$not_threaded"

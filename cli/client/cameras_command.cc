@@ -65,6 +65,12 @@ int cameras_command(const std::vector<std::string>& argv) {
                fixed(t.x(), 3) + " " + fixed(t.y(), 3) + " " + fixed(t.z(), 3), c.has_mask() ? "yes" : "no"});
   }
   table.print(std::cout);
+  // What a source found when it checked its cameras against their calibration.
+  for (const auto& c : response.cameras()) {
+    if (c.calibration_check().empty()) continue;
+    std::cout << (c.calibration_warning() ? "calibration off: " : "calibration check: ") << c.name() << ": "
+              << c.calibration_check() << "\n";
+  }
   if (args->has("details")) {
     for (const auto& c : response.cameras()) {
       const auto& p = c.pose();

@@ -75,6 +75,17 @@ SourceHealth CaptureSource::health() const {
   return health_;
 }
 
+std::vector<CameraCheck> CaptureSource::camera_checks() const {
+  std::lock_guard lock(mutex_);
+  std::vector<CameraCheck> checks;
+  for (const LensCircleReport& report : counters_.lens_circles) {
+    std::string summary = describe(report);
+    summary.erase(0, report.camera.size() + 2);  // "front: ..." -> "..."; the camera is its own column
+    checks.push_back({report.camera, summary, report.found && report.offset_px > kLensOffsetWarnPx});
+  }
+  return checks;
+}
+
 CaptureSource::Counters CaptureSource::counters() const {
   std::lock_guard lock(mutex_);
   return counters_;

@@ -55,6 +55,8 @@ class CaptureSource : public Source {
   // between neighbouring view samples): picks the DCT scale when decode_scale is 0.
   void set_camera_sampling(const std::vector<double>& spacing) override;
   SourceHealth health() const override;
+  // The lens-circle check's latest result per lens (Air; `lens_check: true`).
+  std::vector<CameraCheck> camera_checks() const override;
 
   // Figures beyond SourceHealth, for tests and the status message.
   struct Counters {

@@ -142,7 +142,15 @@ std::vector<v1::Camera> Pipeline::cameras(const std::string& source) const {
   for (const auto& c : channels_) {
     if (!source.empty() && c->source().name() != source) continue;
     const auto r = rig(c->source().name());
-    for (const auto& cam : r->cameras()) out.push_back(to_proto(cam, *r, c->source().name()));
+    const auto checks = c->source().camera_checks();
+    for (const auto& cam : r->cameras()) {
+      out.push_back(to_proto(cam, *r, c->source().name()));
+      for (const auto& check : checks) {
+        if (check.camera != cam.name) continue;
+        out.back().set_calibration_check(check.summary);
+        out.back().set_calibration_warning(check.warning);
+      }
+    }
   }
   if (!source.empty() && out.empty()) channel(source);  // throws NOT_FOUND for an unknown name
   return out;

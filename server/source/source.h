@@ -13,6 +13,14 @@
 
 namespace omniview {
 
+// A source's own check of one camera against its calibration (an Insta360 Air finds each
+// lens's image circle in a live frame), shown per camera by ListCameras.
+struct CameraCheck {
+  std::string camera;
+  std::string summary;   // for a person: "lens circle centre 5.1 px from the principal point ..."
+  bool warning = false;  // the check says the calibration is off
+};
+
 struct SourceHealth {
   bool connected = false;
   uint64_t frames = 0;   // frame sets delivered
@@ -49,6 +57,9 @@ class Source {
   virtual void set_camera_sampling(const std::vector<double>& spacing) { (void)spacing; }
 
   virtual SourceHealth health() const = 0;
+
+  // The latest checks the source made of its cameras; empty when it makes none.
+  virtual std::vector<CameraCheck> camera_checks() const { return {}; }
 
   // The newest joint positions the source knows (a robot's own report), kept current also
   // while it delivers no frames because nobody watches; null: it reports none.

@@ -163,7 +163,19 @@ TEST_F(AirDaemon, StatusAndCamerasLikeAnyOtherSource) {
   ASSERT_EQ(cameras.exit_code, 0) << cameras.output;
   EXPECT_NE(cameras.output.find("front"), std::string::npos) << cameras.output;
   EXPECT_NE(cameras.output.find("back"), std::string::npos) << cameras.output;
-  // The sample's lenses sit where the calibration says: no warning in the status.
+  // The lens-circle check per camera: the sample's lenses sit where the calibration says.
+  EXPECT_NE(cameras.output.find("calibration check: front: lens circle centre"), std::string::npos) << cameras.output;
+  EXPECT_NE(cameras.output.find("calibration check: back: lens circle centre"), std::string::npos) << cameras.output;
+  EXPECT_EQ(cameras.output.find("calibration off"), std::string::npos) << cameras.output;
+  v1::ListCamerasResponse listed;
+  grpc::ClientContext list_context;
+  ASSERT_TRUE(stub->ListCameras(&list_context, v1::ListCamerasRequest(), &listed).ok());
+  ASSERT_EQ(listed.cameras_size(), 2);
+  for (const auto& c : listed.cameras()) {
+    EXPECT_FALSE(c.calibration_warning()) << c.name() << ": " << c.calibration_check();
+    EXPECT_NE(c.calibration_check().find(" px from the principal point"), std::string::npos) << c.calibration_check();
+  }
+  // No warning in the status either.
   v1::Status s;
   ASSERT_TRUE(stub->GetStatus(make_context().get(), v1::GetStatusRequest(), &s).ok());
   ASSERT_EQ(s.sources_size(), 1);

@@ -216,6 +216,13 @@ TEST_F(AirSource, TheLensCircleCheckReportsAnOffCentreLens) {
   EXPECT_LT(circles[0].offset_px, 1.5);
   EXPECT_NEAR(circles[1].offset_px, 6, 1.5);
   EXPECT_NE(message().find("calibration off: back: lens circle centre"), std::string::npos) << message();
+  // The same, per camera, for ListCameras / `omniview cameras`.
+  const auto checks = source->camera_checks();
+  ASSERT_EQ(checks.size(), 2u);
+  EXPECT_FALSE(checks[0].warning) << checks[0].summary;
+  EXPECT_TRUE(checks[1].warning) << checks[1].summary;
+  EXPECT_EQ(checks[1].camera, "back");
+  EXPECT_EQ(checks[1].summary.rfind("lens circle centre", 0), 0u) << checks[1].summary;
 }
 
 TEST_F(AirSource, ConfigErrorsNameTheKey) {

@@ -1,0 +1,144 @@
+# Precompiled headers for the heavy dependencies (gRPC, protobuf, OpenCV, Eigen, yaml-cpp,
+# GoogleTest). Parsing them is most of the compile time of a typical file here, and CI
+# builds three trees (release, ASan, TSan) on two cores.
+#
+# omniview_precompile_headers() runs once, after every target is defined, and gives each
+# C++ target the precompiled headers of the dependencies it links (directly or through
+# other targets), so no source file needs to know about it:
+# - a library with several sources compiles its own precompiled header;
+# - every other target (a test with one file, a small program) reuses the header of a host
+#   target made for its set of dependencies. GCC uses a precompiled header only when the
+#   flags match, so targets with compile options of their own (core's -O3, generated code's
+#   -w) are left out of sharing; -Winvalid-pch makes any mismatch show in the build log.
+# Only third-party and standard headers go in, so a change to our own headers rebuilds
+# exactly what it did before. OMNIVIEW_PCH=OFF builds without (to check that every file
+# includes what it uses).
+option(OMNIVIEW_PCH "Precompile the headers of heavy dependencies" ON)
+
+set(_omniview_pch_std <algorithm> <chrono> <cstdint> <functional> <map> <memory> <mutex> <optional>
+    <string> <thread> <vector>)
+# Dependency (a target name in the link closure) -> its headers.
+set(_omniview_pch_Eigen3::Eigen <Eigen/Core> <Eigen/Geometry>)
+set(_omniview_pch_opencv_core <opencv2/core.hpp>)
+set(_omniview_pch_yaml-cpp <yaml-cpp/yaml.h>)
+set(_omniview_pch_gRPC::grpc++ <grpcpp/grpcpp.h>)
+set(_omniview_pch_GTest::gtest <gtest/gtest.h>)
+# Our own API's generated code: the heaviest header of the server and its tests.
+set(_omniview_pch_omniview_proto <omniview/v1/omniview.grpc.pb.h>)
+set(_omniview_pch_dependencies Eigen3::Eigen opencv_core yaml-cpp gRPC::grpc++ omniview_proto GTest::gtest)
+
+# Every target name reachable from `target`'s link libraries, into `out`.
+function(_omniview_link_closure target out)
+  set(seen)
+  set(queue ${target})
+  while(queue)
+    list(POP_FRONT queue item)
+    # Generator expressions such as $<LINK_ONLY:x> hide a plain target name.
+    string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" item "${item}")
+    if(NOT TARGET ${item} OR item IN_LIST seen)
+      continue()
+    endif()
+    list(APPEND seen ${item})
+    get_target_property(alias ${item} ALIASED_TARGET)
+    if(alias)
+      list(APPEND queue ${alias})
+    endif()
+    foreach(property LINK_LIBRARIES INTERFACE_LINK_LIBRARIES)
+      get_target_property(libs ${item} ${property})
+      if(libs)
+        list(APPEND queue ${libs})
+      endif()
+    endforeach()
+  endwhile()
+  # gtest_main brings gtest.
+  if(GTest::gtest_main IN_LIST seen)
+    list(APPEND seen GTest::gtest)
+  endif()
+  set(${out} ${seen} PARENT_SCOPE)
+endfunction()
+
+# The headers worth precompiling for `target` (empty: none), and a key naming that set.
+function(_omniview_pch_headers target headers_out key_out)
+  _omniview_link_closure(${target} closure)
+  set(headers)
+  set(key)
+  foreach(dependency IN LISTS _omniview_pch_dependencies)
+    if(dependency IN_LIST closure)
+      list(APPEND headers ${_omniview_pch_${dependency}})
+      string(REGEX REPLACE "[^A-Za-z0-9]" "_" name ${dependency})
+      string(APPEND key "_${name}")
+    endif()
+  endforeach()
+  if(headers)
+    set(headers ${_omniview_pch_std} ${headers})
+  endif()
+  set(${headers_out} ${headers} PARENT_SCOPE)
+  set(${key_out} ${key} PARENT_SCOPE)
+endfunction()
+
+# The C++ targets defined in `dir` and below, into `out`.
+function(_omniview_targets_below dir out)
+  get_property(targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
+  get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
+  foreach(subdir IN LISTS subdirs)
+    _omniview_targets_below(${subdir} below)
+    list(APPEND targets ${below})
+  endforeach()
+  set(${out} ${targets} PARENT_SCOPE)
+endfunction()
+
+function(omniview_precompile_headers)
+  if(NOT OMNIVIEW_PCH OR OMNIVIEW_FUZZ)
+    return()
+  endif()
+  _omniview_targets_below(${PROJECT_SOURCE_DIR} targets)
+  foreach(target IN LISTS targets)
+    get_target_property(type ${target} TYPE)
+    if(NOT type MATCHES "^(STATIC_LIBRARY|SHARED_LIBRARY|OBJECT_LIBRARY|EXECUTABLE)$")
+      continue()
+    endif()
+    get_target_property(sources ${target} SOURCES)
+    list(FILTER sources INCLUDE REGEX "\\.(cc|cpp|cxx)$")
+    list(LENGTH sources source_count)
+    if(source_count EQUAL 0)
+      continue()
+    endif()
+    _omniview_pch_headers(${target} headers key)
+    if(NOT headers)
+      continue()
+    endif()
+    # Options beyond the project-wide ones (add_compile_options) change the flags.
+    get_target_property(options ${target} COMPILE_OPTIONS)
+    get_property(project_options DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTY COMPILE_OPTIONS)
+    set(own_options FALSE)
+    if(options AND NOT "${options}" STREQUAL "${project_options}")
+      set(own_options TRUE)
+    endif()
+    if(source_count GREATER_EQUAL 4)
+      target_precompile_headers(${target} PRIVATE ${headers})
+    elseif(NOT own_options)
+      _omniview_pch_host(${key} "${headers}" ${target} host)
+      target_precompile_headers(${target} REUSE_FROM ${host})
+    else()
+      continue()
+    endif()
+    target_compile_options(${target} PRIVATE -Winvalid-pch)
+  endforeach()
+endfunction()
+
+# A host target whose only job is to compile the precompiled header for one set of
+# dependencies, with the default flags; made on first use, linking what `example` links
+# so the include paths and definitions match.
+function(_omniview_pch_host key headers example out)
+  set(host omniview_pch${key})
+  if(NOT TARGET ${host})
+    set(empty ${PROJECT_BINARY_DIR}/pch/${host}.cc)
+    file(WRITE ${empty} "// Compiles the precompiled header of ${host} (cmake/OmniviewPch.cmake).\n")
+    add_library(${host} OBJECT ${empty})
+    get_target_property(libs ${example} LINK_LIBRARIES)
+    target_link_libraries(${host} PRIVATE ${libs})
+    target_precompile_headers(${host} PRIVATE ${headers})
+    target_compile_options(${host} PRIVATE -Winvalid-pch)
+  endif()
+  set(${out} ${host} PARENT_SCOPE)
+endfunction()
