@@ -29,12 +29,14 @@ void Pipeline::add_source(std::unique_ptr<Source> source) {
   for (const auto& c : channels_) {
     if (c->source().name() == source->name()) throw std::invalid_argument("two sources named '" + source->name() + "'");
   }
+  clouds_[source->name()] = std::make_unique<CloudDelivery>(source->name());
   channels_.push_back(std::make_unique<SourceChannel>(std::move(source)));
 }
 
 void Pipeline::set_robot_model(const std::string& source, std::shared_ptr<const RobotModelSetup> setup) {
   channel(source);  // NOT_FOUND for an unknown source
   robot_joints_[source] = std::make_unique<RobotJoints>(setup);
+  clouds_.at(source)->set_robot_model(setup);
   robot_models_[source] = std::move(setup);
 }
 
@@ -81,6 +83,7 @@ void Pipeline::stop(const std::string& reason) {
     for (auto& [_, v] : views_) v->close_all(grpc::StatusCode::UNAVAILABLE, reason);
   }
   for (auto& c : channels_) c->close_taps(reason);
+  for (auto& [_, c] : clouds_) c->close_all(grpc::StatusCode::UNAVAILABLE, reason);
   if (!started_flag_) return;
   for (auto& c : channels_) c->source().stop();
   for (auto& c : channels_) c->close();

@@ -38,12 +38,14 @@ void Pipeline::render_worker(SourceChannel* ch) {
         }
       }
     }
-    if (views.empty()) continue;  // nobody watching: nothing to do
     // One view per task; apply_map inside runs single-threaded when nested, which is what
     // we want with several views, and uses the pool alone when there is one.
-    cv::parallel_for_(cv::Range(0, static_cast<int>(views.size())), [&](const cv::Range& range) {
-      for (int i = range.start; i < range.end; ++i) render_view(views[i], *frames);
-    });
+    if (!views.empty()) {
+      cv::parallel_for_(cv::Range(0, static_cast<int>(views.size())), [&](const cv::Range& range) {
+        for (int i = range.start; i < range.end; ++i) render_view(views[i], *frames);
+      });
+    }
+    deliver_cloud(*ch, *frames);
   }
 }
 

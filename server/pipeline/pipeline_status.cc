@@ -64,10 +64,22 @@ v1::Status Pipeline::status() const {
       c->set_encoding(to_string(sub->key()));
     }
   }
-  // Which cameras each source is asked for right now.
+  // Cloud clients, named by their source's cloud.
+  for (const auto& [source, delivery] : clouds_) {
+    for (const auto& sub : delivery->subscribers()) {
+      auto* c = st.add_clients();
+      c->set_peer(sub->peer());
+      c->set_view("cloud:" + source);
+      c->set_frames_sent(sub->clouds_sent());
+      c->set_frames_dropped(sub->clouds_dropped());
+      c->set_encoding("cloud");
+    }
+  }
+  // Which cameras each source is asked for right now (every one while a cloud is watched).
   for (int i = 0; i < st.sources_size(); ++i) {
     const auto r = rig(st.sources(i).name());
-    std::vector<bool> used(r->cameras().size(), channels_[i]->tap_count() > 0);
+    const bool all = channels_[i]->tap_count() > 0 || clouds(st.sources(i).name()).subscriber_count() > 0;
+    std::vector<bool> used(r->cameras().size(), all);
     for (const auto& v : views) {
       const auto state = v->state();
       if (state->spec.source != st.sources(i).name() || v->subscriber_count() == 0) continue;

@@ -84,9 +84,18 @@ void Pipeline::update_wanted_cameras(const std::string& source) {
     const auto sampling = camera_sampling(*state->map);
     for (size_t i = 0; i < spacing.size() && i < sampling.size(); ++i) take_finest(i, sampling[i]);
   }
+  // A cloud is coloured from every camera, at full resolution.
+  const bool cloud_wanted = clouds(source).subscriber_count() > 0;
+  if (cloud_wanted) {
+    for (size_t i = 0; i < wanted.size(); ++i) {
+      wanted[i] = true;
+      take_finest(i, 1.0 / std::max(1, r->cameras()[i].width));
+    }
+  }
   // Sampling first: a source that starts decoding for a new watcher then decodes at the
   // size the views need from its first frame.
   ch->source().set_camera_sampling(spacing);
+  ch->source().set_cloud_wanted(cloud_wanted);
   ch->source().set_wanted_cameras(wanted);
 }
 
