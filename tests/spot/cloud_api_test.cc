@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "core/camera/camera_model.h"
+#include "core/cloud/cloud_file.h"
 #include "spot_adapter/mock/world/mock_scene.h"
 #include "tests/server/daemon_process.h"
 #include "tests/spot_mock/spot_mock_process.h"
@@ -396,7 +397,7 @@ TEST_F(CloudApi, AStalledClientSlowsNobodyAndCloudsStopWithTheLastWatcher) {
   std::cout << "clouds per second, one reader: " << alone_rate << "\n";
   ASSERT_GT(alone_rate, 0.5);
   {
-    // Ten stalled streams hold their slots and gRPC's buffers full; a reader beside them
+    // Six stalled streams hold their slots and gRPC's buffers full; a reader beside them
     // keeps its rate.
     std::vector<std::unique_ptr<CloudReader>> stalled;
     for (int i = 0; i < 6; ++i) stalled.push_back(std::make_unique<CloudReader>(*stub_, 0, true));
@@ -446,6 +447,62 @@ TEST_F(CloudApi, StreamHonoursItsRate) {
   const auto [colour_ms, bytes] = reader.last_cost();
   std::cout << "a streamed cloud: coloured in " << colour_ms << " ms, " << bytes << " bytes a message\n";
   EXPECT_GT(bytes, 100000u);
+}
+
+// The CLI: `omniview cloud` writes binary PLY that core's reader reads back, coloured.
+TEST_F(CloudApi, CliSavesColouredPlyFiles) {
+  const std::string cli = std::string("OMNIVIEW_TOKEN=") + kViewer + " " + OMNIVIEW_CLI + " --server " +
+                          daemon_->address() + " cloud";
+  const std::string one = (dir_.path() / "one.ply").string();
+  auto r = run_process(cli + " spot -o " + one + " --frame vision --wait 20");
+  ASSERT_EQ(r.exit_code, 0) << r.output << "\n" << daemon_->log();
+  EXPECT_NE(r.output.find("coloured "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("unseen "), std::string::npos) << r.output;
+  const PointCloud cloud = load_cloud(one);
+  EXPECT_EQ(cloud.frame, "vision");
+  ASSERT_GT(cloud.size(), 5000u);
+  ASSERT_EQ(cloud.rgb.size(), cloud.size());
+  ASSERT_EQ(cloud.flags.size(), cloud.size());
+  size_t coloured = 0, agree = 0;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    if (!(cloud.flags[i] & 1)) continue;
+    ++coloured;
+    const Vec3 p = cloud.points[i].cast<double>();
+    if ((p - Vec3(0, 0, spot_mock::kBodyHeightM)).norm() > 4) continue;
+    const Vec3 bgr = synthetic::Scene::texture(p);
+    agree += std::max({std::abs(cloud.rgb[i][0] - bgr[2]), std::abs(cloud.rgb[i][1] - bgr[1]),
+                       std::abs(cloud.rgb[i][2] - bgr[0])}) <= 24;
+  }
+  EXPECT_GT(coloured, cloud.size() / 2);
+  EXPECT_GT(agree, 2000u) << "the file's colours are the scene's";
+
+  // Coloured points only, thinned: smaller, and every point coloured.
+  const std::string thin = (dir_.path() / "thin.pcd").string();
+  r = run_process(cli + " spot -o " + thin + " --voxel 0.3 --coloured-only --wait 20");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const PointCloud thinned = load_cloud(thin);
+  EXPECT_LT(thinned.size(), cloud.size() / 2);
+  EXPECT_GT(thinned.size(), 50u);
+  for (uint8_t f : thinned.flags) ASSERT_TRUE(f & 1);
+
+  // A stream of three, numbered.
+  const std::string many = (dir_.path() / "many.ply").string();
+  r = run_process(cli + " spot -o " + many + " --count 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* name : {"many_000001.ply", "many_000002.ply", "many_000003.ply"}) {
+    EXPECT_GT(load_cloud((dir_.path() / name).string()).size(), 5000u) << name;
+  }
+
+  // Mistakes are named.
+  r = run_process(cli + " spot -o " + one + " --voxel 0.001");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("voxel"), std::string::npos) << r.output;
+  r = run_process(cli + " examples -o " + one);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("delivers no point clouds"), std::string::npos) << r.output;
+  r = run_process(cli + " spot -o out.txt");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find(".ply or .pcd"), std::string::npos) << r.output;
 }
 
 }  // namespace
