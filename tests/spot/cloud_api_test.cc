@@ -130,11 +130,15 @@ class CloudApi : public ::testing::Test {
            << "    type: images\n"
            << "    rig: " << example_dir() << "/rig.yaml\n"
            << "    images: {front: " << example_dir() << "/front.jpg, back: " << example_dir() << "/back.jpg}\n"
-           << "    rate_hz: 5\n";
+           << "    rate_hz: 5\n"
+           << extra_config();
     daemon_ = std::make_unique<DaemonProcess>(dir_, config.str());
     stub_ = make_stub(daemon_->address());
     ASSERT_TRUE(eventually([&] { return connected(); }, 15s)) << daemon_->log();
   }
+
+  // More of the daemon's config (YAML at the top level).
+  virtual std::string extra_config() const { return ""; }
 
   bool connected() {
     v1::Status st;
@@ -447,6 +451,33 @@ TEST_F(CloudApi, StreamHonoursItsRate) {
   const auto [colour_ms, bytes] = reader.last_cost();
   std::cout << "a streamed cloud: coloured in " << colour_ms << " ms, " << bytes << " bytes a message\n";
   EXPECT_GT(bytes, 100000u);
+}
+
+// With the robot's model (the shipped Spot-like URDF) the daemon runs the self-filter on
+// every cloud, posed at the robot's reported joints. The mock's lidar sits on the body's
+// top and its lowest ring (-15 deg) meets the floor about 2.3 m out, so it sees nothing of
+// the robot: no point may be flagged as the robot, and the filter must not fail (core's
+// tests/cloud check what it flags on a body the lidar does see).
+class CloudApiWithRobot : public CloudApi {
+ protected:
+  std::string extra_config() const override {
+    return std::string("robot_models:\n  - source: spot\n    urdf: ") + OMNIVIEW_SOURCE_DIR +
+           "/config/robots/spot/spot_like.urdf\n    frame: body\n";
+  }
+};
+
+TEST_F(CloudApiWithRobot, SelfFilterRunsAndFlagsNothingOffTheRobot) {
+  v1::PointCloud cloud;
+  const grpc::Status s = get_cloud(request("body"), cloud);
+  ASSERT_TRUE(s.ok()) << s.error_message() << "\n" << daemon_->log();
+  const auto points = decode(cloud);
+  ASSERT_GT(points.size(), 5000u);
+  double nearest = 1e9;
+  for (const auto& pt : points) nearest = std::min(nearest, pt.p.head<2>().norm());
+  EXPECT_GT(nearest, 1.5) << "the premise: the lidar sees nothing near the robot";
+  EXPECT_EQ(cloud.counts().self_filtered(), 0u);
+  EXPECT_GT(cloud.counts().coloured(), points.size() / 2);
+  EXPECT_EQ(daemon_->log().find("not self-filtered"), std::string::npos) << daemon_->log();
 }
 
 // The CLI: `omniview cloud` writes binary PLY that core's reader reads back, coloured.
