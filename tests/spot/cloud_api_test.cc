@@ -407,23 +407,28 @@ TEST_F(CloudApi, AStalledClientSlowsNobodyAndCloudsStopWithTheLastWatcher) {
     for (int i = 0; i < 6; ++i) stalled.push_back(std::make_unique<CloudReader>(*stub_, 0, true));
     CloudReader reader(*stub_, 0, false);
     ASSERT_TRUE(eventually([&] { return reader.clouds() >= 3; }, 15s)) << daemon_->log();
-    std::this_thread::sleep_for(scaled(2s));  // the stalled streams' buffers fill
+    // The stalled streams' buffers fill up; from then on their clouds are dropped, not queued.
+    const auto cloud_clients = [&](uint64_t* dropped) {
+      v1::Status st;
+      EXPECT_TRUE(stub_->GetStatus(make_context(kViewer).get(), v1::GetStatusRequest(), &st).ok());
+      int n = 0;
+      *dropped = 0;
+      for (const auto& c : st.clients()) {
+        if (c.view() != "cloud:spot") continue;
+        ++n;
+        *dropped += c.frames_dropped();
+      }
+      return n;
+    };
+    uint64_t dropped = 0;
+    EXPECT_EQ(cloud_clients(&dropped), 7);
+    EXPECT_TRUE(eventually([&] { return cloud_clients(&dropped) == 7 && dropped > 0; }, 30s))
+        << "the stalled streams' clouds are dropped, not queued";
     const size_t before = reader.clouds();
     std::this_thread::sleep_for(scaled(3s));
     const double rate = (reader.clouds() - before) / (3 * test_time_scale());
-    std::cout << "clouds per second beside 6 stalled streams: " << rate << "\n";
+    std::cout << "clouds per second beside 6 stalled streams: " << rate << " (" << dropped << " dropped for them)\n";
     EXPECT_GT(rate, 0.6 * alone_rate);
-    v1::Status st;
-    ASSERT_TRUE(stub_->GetStatus(make_context(kViewer).get(), v1::GetStatusRequest(), &st).ok());
-    uint64_t dropped = 0;
-    int cloud_clients = 0;
-    for (const auto& c : st.clients()) {
-      if (c.view() != "cloud:spot") continue;
-      ++cloud_clients;
-      dropped += c.frames_dropped();
-    }
-    EXPECT_EQ(cloud_clients, 7);
-    EXPECT_GT(dropped, 0u) << "the stalled streams' clouds are dropped, not queued";
   }
   // Nobody watches any more: no more GetPointCloud calls (one still in flight may land).
   ASSERT_TRUE(eventually(

@@ -139,12 +139,25 @@ void CloudDelivery::deliver(const FrameSet& frames,
       ++stats_.clouds;
       stats_.last_colour_ms = colour_ms;
     }
-    for (const auto& s : group) offer(coloured, frames, s, colour_ms);
+    // One message per distinct shape asked for, shared by the clients that asked it.
+    std::vector<std::pair<const CloudRequest*, SharedCloud>> made;
+    for (const auto& s : group) {
+      const auto it = std::find_if(made.begin(), made.end(),
+                                   [&](const auto& m) { return m.first->same_shape(s->request()); });
+      if (it != made.end()) {
+        s->offer(it->second, Clock::now());
+        continue;
+      }
+      if (SharedCloud message = make_message(coloured, frames, s, colour_ms)) {
+        s->offer(message, Clock::now());
+        made.emplace_back(&s->request(), std::move(message));
+      }
+    }
   }
 }
 
-void CloudDelivery::offer(const PointCloud& coloured, const FrameSet& frames,
-                          const std::shared_ptr<CloudSubscriber>& subscriber, double colour_ms) {
+SharedCloud CloudDelivery::make_message(const PointCloud& coloured, const FrameSet& frames,
+                                        const std::shared_ptr<CloudSubscriber>& subscriber, double colour_ms) {
   const Rig& rig = *frames.rig;
   const CloudRequest& request = subscriber->request();
   CloudShape shape;
@@ -154,7 +167,7 @@ void CloudDelivery::offer(const PointCloud& coloured, const FrameSet& frames,
     const std::string reason = "frame '" + shape.frame + "' is not connected to the cloud's frame '" +
                                coloured.frame + "' in source '" + source_ + "' (frames: " + frame_list(rig) + ")";
     subscriber->close(grpc::StatusCode::INVALID_ARGUMENT, reason);
-    return;
+    return nullptr;
   }
   shape.T_out_cloud = *T;
   shape.voxel_m = request.voxel_m;
@@ -166,7 +179,7 @@ void CloudDelivery::offer(const PointCloud& coloured, const FrameSet& frames,
   for (const auto& c : rig.cameras()) message->add_cameras(c.name);
   message->set_colour_ms(colour_ms);
   message->set_latency_ms(std::chrono::duration<double, std::milli>(Clock::now() - frames.arrival).count());
-  subscriber->offer(std::move(message), Clock::now());
+  return message;
 }
 
 }  // namespace omniview

@@ -2,8 +2,9 @@
 // each frame set that carries a cloud to deliver(): the cloud is coloured with the same
 // frame set's images once per distinct colouring the due clients asked for (the colourer
 // is rebuilt when the rig changes; points on the robot's body are flagged when the source
-// has a robot model), then shaped and packed per client and offered to its latest-cloud
-// slot (cloud_subscriber.h). Nothing here waits on a client.
+// has a robot model), then shaped and packed once per distinct shape the clients asked for
+// and offered to each one's latest-cloud slot (cloud_subscriber.h). Nothing here waits on
+// a client.
 #pragma once
 
 #include <map>
@@ -48,9 +49,10 @@ class CloudDelivery {
  private:
   std::shared_ptr<const PointCloud> self_filtered(const FrameSet& frames,
                                                   const std::shared_ptr<const std::map<std::string, double>>& joints);
-  // Shapes and packs `coloured` as `subscriber` asked, and offers it.
-  void offer(const PointCloud& coloured, const FrameSet& frames, const std::shared_ptr<CloudSubscriber>& subscriber,
-             double colour_ms);
+  // `coloured` shaped and packed as `subscriber` asked; null (and the subscriber closed)
+  // when its frame is no longer connected to the cloud's.
+  SharedCloud make_message(const PointCloud& coloured, const FrameSet& frames,
+                           const std::shared_ptr<CloudSubscriber>& subscriber, double colour_ms);
 
   const std::string source_;
   std::shared_ptr<const RobotModelSetup> robot_;

@@ -21,6 +21,13 @@ struct CloudRequest {
 
   // Clients asking the same colouring share one colouring pass per cloud.
   bool same_colouring(const CloudRequest& o) const { return fusion == o.fusion && occlusion == o.occlusion; }
+  // Clients asking the same shape (frame, voxel, crop) of the same colouring share one
+  // message per cloud, as frames are encoded once per encoding.
+  bool same_shape(const CloudRequest& o) const {
+    const bool same_crop = crop.has_value() == o.crop.has_value() &&
+                           (!crop || (crop->min() == o.crop->min() && crop->max() == o.crop->max()));
+    return same_colouring(o) && frame == o.frame && voxel_m == o.voxel_m && same_crop;
+  }
   ColourOptions colour_options() const;
 };
 
