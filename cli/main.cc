@@ -34,6 +34,7 @@ talking to omniviewd:
   status    the daemon's sources, views and clients
   record    record what a source delivers, for the replay source
   joints    the robot overlay's joint positions: show them, or set them
+  cloud     save a source's coloured lidar cloud (-o out.ply; --count N, --follow)
 
 Connection options of those commands, before or after the command: --server HOST:PORT
 (or OMNIVIEW_SERVER; default 127.0.0.1:50051), --tls-ca FILE, --tls-cert FILE --tls-key
@@ -52,7 +53,7 @@ const std::map<std::string, Command>& commands() {
       {"ptz", cli::ptz_command},       {"snapshot", cli::snapshot_command}, {"watch", cli::watch_command},
       {"stream", cli::stream_command}, {"status", cli::status_command},     {"record", cli::record_command},
       {"joints", cli::joints_command},  {"colorize", cli::colorize_command},
-      {"show", cli::show_command}};
+      {"show", cli::show_command},     {"cloud", cli::cloud_command}};
   return table;
 }
 

@@ -48,7 +48,7 @@ tsan_targets=(omniviewd omniview views_api_test streaming_test auth_test
   lifecycle_test clients_test rate_average_test pipeline_queues_test images_source_test replay_source_test
   recording_test cli_client_test client_cli_test overlay_test spot-mock spot_mock_test spot_daemon_test
   insta360_capture_test insta360_daemon_test operator_test
-  request_bounds_test exposure_test)
+  request_bounds_test exposure_test cloud_api_test cloud_message_test)
 stage "tsan: configure" sanitizer_tree build-tsan OMNIVIEW_TSAN
 stage "tsan: build" cmake --build build-tsan -j "$jobs" --target "${tsan_targets[@]}"
 seed_test_costs build-tsan

@@ -17,5 +17,6 @@ int status_command(const std::vector<std::string>& args);
 int record_command(const std::vector<std::string>& args);
 int joints_command(const std::vector<std::string>& args);
 int show_command(const std::vector<std::string>& args);
+int cloud_command(const std::vector<std::string>& args);
 
 }  // namespace omniview::cli

@@ -13,6 +13,8 @@
 
 #include <Eigen/Core>
 
+#include "core/rig/camera_index.h"
+
 namespace omniview {
 
 // Bad cloud data (a file, a packet): the message names the file or source and the field.
@@ -28,8 +30,7 @@ inline constexpr uint8_t kOccluded = 2;  // a camera would image it, but a neare
 inline constexpr uint8_t kSelf = 4;      // on the robot's own body (self-filter)
 }  // namespace cloud_flags
 
-// PointCloud::camera for a point no camera coloured.
-inline constexpr uint8_t kNoCamera = 255;
+// PointCloud::camera for a point no camera coloured: kNoCamera (core/rig/camera_index.h).
 
 struct PointCloud {
   using Rgb = std::array<uint8_t, 3>;  // R, G, B (the order PLY and PCD write)

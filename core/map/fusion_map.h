@@ -13,12 +13,11 @@
 #include <utility>
 #include <vector>
 
+#include "core/rig/camera_index.h"
 #include "core/rig/rig.h"
 #include "core/view/view.h"
 
 namespace omniview {
-
-inline constexpr uint8_t kNoCamera = 255;  // so a rig may have up to 254 cameras
 
 // No default member initialisers on purpose: a map's storage is allocated without being
 // written, so each builder thread first-touches its own rows (see UninitializedAllocator).

@@ -9,6 +9,7 @@
 
 #include "core/rig/rig.h"
 #include "server/api/request_bounds.h"
+#include "server/api/service_support.h"
 #include "server/convert/convert.h"
 #include "server/pipeline/frame_encoder.h"
 
@@ -16,43 +17,8 @@ namespace omniview {
 
 namespace {
 
-// Runs `body`, turning the pipeline's and core's exceptions into statuses.
-// A status message travels in a header: however it was built, keep it far below gRPC's
-// metadata limit (8 KiB), or the client sees RESOURCE_EXHAUSTED instead of the refusal.
-grpc::Status bounded(grpc::StatusCode code, std::string message) {
-  constexpr size_t kMaxStatusMessage = 2048;
-  if (message.size() > kMaxStatusMessage) message = message.substr(0, kMaxStatusMessage) + "... (cut)";
-  return grpc::Status(code, message);
-}
-
-template <typename F>
-grpc::Status guarded(F&& body) {
-  try {
-    const grpc::Status s = body();
-    return s.ok() ? s : bounded(s.error_code(), s.error_message());
-  } catch (const ApiError& e) {
-    return bounded(e.code, e.what());
-  } catch (const std::invalid_argument& e) {
-    return bounded(grpc::StatusCode::INVALID_ARGUMENT, e.what());
-  } catch (const std::exception& e) {
-    return bounded(grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
-  }
-}
-
-#define OMNIVIEW_AUTHORIZE(ctx, role)                          \
-  do {                                                         \
-    const grpc::Status auth_status = auth_.check(*(ctx), role); \
-    if (!auth_status.ok()) return auth_status;                 \
-  } while (0)
-
-// After authorization: every field of the request within its bounds (request_bounds.h).
-#define OMNIVIEW_CHECK_BOUNDS(req)                                    \
-  do {                                                                \
-    const grpc::Status bounds_status = check_request_bounds(*(req));  \
-    if (!bounds_status.ok()) return bounds_status;                    \
-  } while (0)
-
-constexpr auto kPoll = std::chrono::milliseconds(100);  // how often a waiting stream checks for cancellation
+using service_support::guarded;
+using service_support::kPoll;
 
 // A frame set as StreamSourceFrames sends it: the source's encoded bytes where it kept
 // them (a robot's JPEG: no loss, no work), lossless PNG otherwise.
@@ -90,24 +56,6 @@ v1::SourceFrame to_source_frame(const FrameSet& frames, uint64_t skipped_before,
 }
 
 }  // namespace
-
-class OmniviewService::StreamSlot {
- public:
-  StreamSlot(OmniviewService& service, std::string peer) : service_(service), peer_(std::move(peer)) {}
-  ~StreamSlot() {
-    if (held_) service_.release_stream(peer_);
-  }
-  grpc::Status acquire() {
-    const grpc::Status s = service_.acquire_stream(peer_);
-    held_ = s.ok();
-    return s;
-  }
-
- private:
-  OmniviewService& service_;
-  std::string peer_;
-  bool held_ = false;
-};
 
 grpc::Status OmniviewService::acquire_stream(const std::string& peer) {
   std::lock_guard lock(streams_mutex_);

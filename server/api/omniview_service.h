@@ -41,6 +41,10 @@ class OmniviewService final : public v1::Omniview::Service {
                                  v1::JointPositions* resp) override;
   grpc::Status StreamSourceFrames(grpc::ServerContext* ctx, const v1::StreamSourceFramesRequest* req,
                                   grpc::ServerWriter<v1::SourceFrame>* writer) override;
+  // Coloured clouds (omniview_service_clouds.cc).
+  grpc::Status StreamClouds(grpc::ServerContext* ctx, const v1::StreamCloudsRequest* req,
+                            grpc::ServerWriter<v1::PointCloud>* writer) override;
+  grpc::Status GetCloud(grpc::ServerContext* ctx, const v1::GetCloudRequest* req, v1::PointCloud* resp) override;
 
  private:
   // Counts a stream against the per-client and total limits for its lifetime.
@@ -54,6 +58,25 @@ class OmniviewService final : public v1::Omniview::Service {
   std::mutex streams_mutex_;
   std::map<std::string, int> streams_per_peer_;
   int streams_ = 0;
+};
+
+// Holds one of the stream limits' places while a stream runs.
+class OmniviewService::StreamSlot {
+ public:
+  StreamSlot(OmniviewService& service, std::string peer) : service_(service), peer_(std::move(peer)) {}
+  ~StreamSlot() {
+    if (held_) service_.release_stream(peer_);
+  }
+  grpc::Status acquire() {
+    const grpc::Status s = service_.acquire_stream(peer_);
+    held_ = s.ok();
+    return s;
+  }
+
+ private:
+  OmniviewService& service_;
+  std::string peer_;
+  bool held_ = false;
 };
 
 }  // namespace omniview

@@ -113,7 +113,61 @@ grpc::Status check_message(const Message& m, const std::string& prefix) {
   return grpc::Status::OK;
 }
 
+std::string number(double v) {
+  std::ostringstream text;
+  text << v;
+  return text.str();
+}
+
+// What a cloud request's options mean, beyond finite numbers and short names.
+grpc::Status check_cloud_options(const v1::CloudOptions& o) {
+  const double voxel = o.voxel_size_m();
+  if (voxel != 0 && !(voxel >= kMinCloudVoxelM && voxel <= kMaxCloudVoxelM)) {
+    return refuse("options.voxel_size_m", "must be 0 (every point) or " + number(kMinCloudVoxelM) + ".." +
+                                             number(kMaxCloudVoxelM) + " m, got " + number(voxel));
+  }
+  if (o.has_crop()) {
+    const auto& c = o.crop();
+    if (!c.has_min() || !c.has_max()) return refuse("options.crop", "needs both min and max");
+    const double lo[3] = {c.min().x(), c.min().y(), c.min().z()};
+    const double hi[3] = {c.max().x(), c.max().y(), c.max().z()};
+    const char* axis[3] = {"x", "y", "z"};
+    for (int i = 0; i < 3; ++i) {
+      if (std::abs(lo[i]) > kMaxCloudCropM || std::abs(hi[i]) > kMaxCloudCropM) {
+        return refuse(std::string("options.crop.") + axis[i], "must lie within +-" + number(kMaxCloudCropM) +
+                                                                  " m, got " + number(lo[i]) + ".." + number(hi[i]));
+      }
+      if (!(lo[i] < hi[i])) {
+        return refuse(std::string("options.crop.min.") + axis[i],
+                      "must be less than options.crop.max." + std::string(axis[i]) + " (got min " + number(lo[i]) +
+                          ", max " + number(hi[i]) + ")");
+      }
+    }
+  }
+  if (!v1::Fusion_IsValid(o.fusion())) {
+    return refuse("options.fusion", "unknown value " + std::to_string(o.fusion()) + " (NEAREST_CENTRE or BLEND)");
+  }
+  return grpc::Status::OK;
+}
+
 }  // namespace
+
+grpc::Status check_cloud_request(const Message& request) {
+  if (const auto* stream = dynamic_cast<const v1::StreamCloudsRequest*>(&request)) {
+    if (!(stream->max_rate_hz() >= 0)) {
+      return refuse("max_rate_hz", "must be >= 0 (0: as fast as clouds come), got " + number(stream->max_rate_hz()));
+    }
+    return check_cloud_options(stream->options());
+  }
+  if (const auto* get = dynamic_cast<const v1::GetCloudRequest*>(&request)) {
+    if (get->timeout_ms() < 0 || get->timeout_ms() > kMaxCloudWaitMs) {
+      return refuse("timeout_ms", "must be 0.." + std::to_string(kMaxCloudWaitMs) + " (0: 5000), got " +
+                                      std::to_string(get->timeout_ms()));
+    }
+    return check_cloud_options(get->options());
+  }
+  return grpc::Status::OK;
+}
 
 grpc::Status check_request_bounds(const Message& request) {
   if (const auto* joints = dynamic_cast<const v1::SetJointPositionsRequest*>(&request)) {
@@ -128,7 +182,8 @@ grpc::Status check_request_bounds(const Message& request) {
       if (grpc::Status s = check_number(entry, value); !s.ok()) return s;
     }
   }
-  return check_message(request, "");
+  if (grpc::Status s = check_message(request, ""); !s.ok()) return s;
+  return check_cloud_request(request);
 }
 
 }  // namespace omniview

@@ -15,8 +15,18 @@ namespace omniview {
 constexpr size_t kMaxRequestText = 256;    // any string field: names of views, sources, frames, joints
 constexpr int kMaxRequestListEntries = 256;  // any repeated or map field (joint positions)
 
+// Cloud requests (StreamClouds, GetCloud): a voxel finer than 1 cm would cost more than
+// the cloud it thins; a crop box is in metres around the robot; GetCloud waits at most a minute.
+constexpr double kMinCloudVoxelM = 0.01;
+constexpr double kMaxCloudVoxelM = 10;
+constexpr double kMaxCloudCropM = 10000;
+constexpr int kMaxCloudWaitMs = 60000;
+
 // OK, or INVALID_ARGUMENT naming the field ("spec.name", "positions[elbow]") and quoting
 // at most a short prefix of its value.
+// Cloud requests are also checked for what their options mean (voxel size, crop box, rate,
+// wait), through check_cloud_request.
 grpc::Status check_request_bounds(const google::protobuf::Message& request);
+grpc::Status check_cloud_request(const google::protobuf::Message& request);
 
 }  // namespace omniview

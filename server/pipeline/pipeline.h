@@ -8,9 +8,12 @@
 //          slot (never waits on a client); cheap and expensive encodings in separate lanes
 //   create/update (RPC thread): build the new map there, then swap it in atomically
 //   rig change (new extrinsics): a map thread rebuilds; frames keep the old map meanwhile
+//   a frame set with a lidar cloud and cloud subscribers: the render worker colours it
+//          with the set's images and offers it to each cloud subscriber (cloud/)
 //
 // Views without subscribers cost nothing; the source is told which cameras watched views
-// need (Source::set_wanted_cameras), so a robot is asked only for those.
+// need (Source::set_wanted_cameras), so a robot is asked only for those; clouds are pulled
+// only while someone streams one (Source::set_cloud_wanted), and then every camera is.
 #pragma once
 
 #include <atomic>
@@ -25,6 +28,7 @@
 
 #include "omniview/v1/omniview.pb.h"
 #include "server/pipeline/api_error.h"
+#include "server/pipeline/cloud/cloud_delivery.h"
 #include "server/pipeline/encoder_pool.h"
 #include "server/pipeline/live_view.h"
 #include "server/pipeline/robot_joints.h"
@@ -70,6 +74,12 @@ class Pipeline {
   void unsubscribe(const std::string& view, const Subscriber* subscriber);
   std::shared_ptr<FrameSetTap> tap(const std::string& source);
   void untap(const std::string& source, const FrameSetTap* tap);
+  // Coloured clouds of `source` ("" = default) as `request` asks: NOT_FOUND for an unknown
+  // source, FAILED_PRECONDITION for one without clouds, INVALID_ARGUMENT for a frame the
+  // source's rig lacks.
+  std::shared_ptr<CloudSubscriber> subscribe_cloud(const std::string& source, const std::string& peer,
+                                                   CloudRequest request, double max_rate_hz);
+  void unsubscribe_cloud(const std::string& source, const CloudSubscriber* subscriber);
   // The rig a source currently delivers (for recordings).
   std::shared_ptr<const Rig> rig(const std::string& source) const;
 
@@ -86,6 +96,8 @@ class Pipeline {
   void update_wanted_cameras(const std::string& source);
   void render_worker(SourceChannel* channel);
   void render_view(const std::shared_ptr<LiveView>& view, const FrameSet& frames);
+  void deliver_cloud(SourceChannel& channel, const FrameSet& frames);
+  CloudDelivery& clouds(const std::string& source) const;  // by the source's own name
   RobotJoints& robot_joints(const std::string& source) const;  // throws ApiError
   void rebuild_worker();
   void request_rebuild(const std::string& view);
@@ -94,6 +106,7 @@ class Pipeline {
   std::vector<std::unique_ptr<SourceChannel>> channels_;
   std::map<std::string, std::shared_ptr<const RobotModelSetup>> robot_models_;  // by source; fixed after start
   std::map<std::string, std::unique_ptr<RobotJoints>> robot_joints_;            // by source; fixed after start
+  std::map<std::string, std::unique_ptr<CloudDelivery>> clouds_;               // by source; fixed after start
   std::vector<std::thread> workers_;
   std::unique_ptr<EncoderPool> encoder_;  // from start(); stopped after the render workers
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();

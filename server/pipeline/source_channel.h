@@ -49,7 +49,12 @@ class SourceChannel {
 
   SourceStats stats() const;
 
+  // The rig the cloud path last told the source its wanted cameras for (worker thread only).
+  const std::shared_ptr<const Rig>& cloud_rig_seen() const { return cloud_rig_seen_; }
+  void set_cloud_rig_seen(std::shared_ptr<const Rig> rig) { cloud_rig_seen_ = std::move(rig); }
+
  private:
+  std::shared_ptr<const Rig> cloud_rig_seen_;
   std::unique_ptr<Source> source_;
   mutable std::mutex mutex_;
   std::condition_variable ready_;

@@ -10,6 +10,7 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "core/cloud/point_cloud.h"
 #include "core/rig/rig.h"
 
 namespace omniview {
@@ -36,6 +37,9 @@ struct FrameSet {
   // The robot's joint positions (name -> rad, or m for prismatic joints) as of these
   // images, for the robot overlay; null when the source does not report them.
   std::shared_ptr<const std::map<std::string, double>> joints;
+  // A lidar cloud taken with these images (its own frame and stamp), for coloured clouds;
+  // null when the source has none this cycle or nobody wants clouds (Source::set_cloud_wanted).
+  std::shared_ptr<const PointCloud> cloud;
 };
 
 }  // namespace omniview

@@ -56,6 +56,13 @@ class Source {
   // for less work (a JPEG decoder's DCT scaling) may use it.
   virtual void set_camera_sampling(const std::vector<double>& spacing) { (void)spacing; }
 
+  // Whether the source can deliver lidar clouds at all (StreamClouds refuses others with
+  // FAILED_PRECONDITION).
+  virtual bool provides_clouds() const { return false; }
+  // Whether someone watches a cloud of this source. A source that can choose (a robot over
+  // Wi-Fi) pulls clouds only while it is set, and attaches them to its frame sets.
+  virtual void set_cloud_wanted(bool wanted) { (void)wanted; }
+
   virtual SourceHealth health() const = 0;
 
   // The latest checks the source made of its cameras; empty when it makes none.

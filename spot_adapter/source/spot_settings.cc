@@ -49,7 +49,7 @@ SpotSettings parse_spot_settings(const SourceConfig& config) {
   const YamlReader& r = *config.reader;
   r.expect_keys(config.node, config.path,
                 {"name", "type", "robot", "ca_file", "credentials_file", "cameras", "rate_hz", "image_format",
-                 "jpeg_quality", "pixel_format", "timeout_s", "requests_in_flight"});
+                 "jpeg_quality", "pixel_format", "timeout_s", "requests_in_flight", "point_cloud_source"});
   SpotSettings s;
   const YAML::Node robot = r.required(config.node, "robot", config.path);
   try {
@@ -114,6 +114,12 @@ SpotSettings parse_spot_settings(const SourceConfig& config) {
     s.requests_in_flight = r.integer(n, config.path + ".requests_in_flight");
     if (s.requests_in_flight < 1 || s.requests_in_flight > 4) {
       r.fail(n, config.path + ".requests_in_flight", "must be in 1..4");
+    }
+  }
+  if (const YAML::Node n = config.node["point_cloud_source"]) {
+    s.point_cloud_source = r.text(n, config.path + ".point_cloud_source");
+    if (s.point_cloud_source.empty()) {
+      r.fail(n, config.path + ".point_cloud_source", "expected auto, none, or the name of the robot's point-cloud source");
     }
   }
   return s;

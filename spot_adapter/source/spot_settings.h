@@ -15,6 +15,8 @@
 //     timeout_s: 2                   # per call
 //     requests_in_flight: 2          # GetImage calls that may overlap: the rate is at most
 //                                    # this many image sets per round trip (Wi-Fi: 100-300 ms)
+//     point_cloud_source: auto       # the lidar for coloured clouds: auto (the robot's first
+//                                    # point-cloud source), none, or a source's name
 #pragma once
 
 #include <chrono>
@@ -37,6 +39,7 @@ struct SpotSettings {
   bool prefer_rgb = false;
   std::chrono::milliseconds timeout{2000};
   int requests_in_flight = 2;
+  std::string point_cloud_source = "auto";  // "auto", "none" or a point-cloud source's name
 };
 
 const std::vector<std::string>& default_body_cameras();

@@ -8,6 +8,7 @@
 
 #include "bosdyn/api/image_service.grpc.pb.h"
 #include "spot_adapter/convert/camera_model_from_source.h"
+#include "spot_adapter/convert/cloud_from_response.h"
 #include "spot_adapter/source/joint_states.h"
 #include "spot_adapter/source/spot_rig.h"
 
@@ -119,6 +120,55 @@ void SpotSource::set_wanted_cameras(const std::vector<bool>& wanted) {
     wanted_ = wanted;
   }
   wake_.notify_all();
+}
+
+bool SpotSource::provides_clouds() const {
+  std::lock_guard lock(mutex_);
+  return settings_.point_cloud_source != "none" && !clouds_missing_;
+}
+
+void SpotSource::set_cloud_wanted(bool wanted) {
+  std::lock_guard lock(mutex_);
+  cloud_wanted_ = wanted;
+}
+
+std::shared_ptr<const PointCloud> SpotSource::next_cloud() {
+  bool wanted;
+  {
+    std::lock_guard lock(mutex_);
+    wanted = cloud_wanted_;
+  }
+  auto answer = cloud_reader_.take();  // taken even when unwanted: a stale cloud is dropped
+  if (!wanted || cloud_source_.empty()) return nullptr;
+  cloud_reader_.request(session_, cloud_source_);  // the next one, answered by a later image set
+  std::string problem = answer.problem;
+  std::shared_ptr<const PointCloud> cloud;
+  if (answer.cloud) {
+    auto stamp = cloud_acquisition_time(*answer.cloud);
+    if (stamp.time_since_epoch().count() == 0) {
+      stamp = std::chrono::system_clock::now();  // a robot that sends no time
+    } else if (clock_.synced()) {
+      stamp = clock_.to_local(stamp);
+    }
+    try {
+      cloud = std::make_shared<const PointCloud>(
+          cloud_from_spot(*answer.cloud, stamp, "GetPointCloud of '" + cloud_source_ + "'"));
+    } catch (const SpotError& e) {
+      problem = e.what();
+    }
+  }
+  if (!problem.empty()) {
+    {
+      std::lock_guard lock(mutex_);
+      ++health_.errors;
+      health_.message = problem;
+    }
+    if (Clock::now() - last_error_log_ > kErrorLogInterval) {
+      log("cloud skipped: " + problem);
+      last_error_log_ = Clock::now();
+    }
+  }
+  return cloud;
 }
 
 SourceHealth SpotSource::health() const {
@@ -251,6 +301,17 @@ void SpotSource::connect() {
   log(std::string(unchanged ? "reconnected to " : "connected to ") + session_.robot() + " at " + to_string(settings_.address) + "; cameras: " + join(names) +
       (note.empty() ? "" : "; " + note));
   sync_clock();
+  std::string cloud_note;
+  cloud_source_ = find_point_cloud_source(session_, settings_.point_cloud_source, cloud_note);
+  {
+    std::lock_guard lock(mutex_);
+    clouds_missing_ = cloud_source_.empty();
+  }
+  if (!cloud_source_.empty()) {
+    log("coloured clouds from point-cloud source '" + cloud_source_ + "' while someone watches one");
+  } else if (settings_.point_cloud_source != "none") {
+    log(cloud_note);
+  }
   connect_note_ = note;
   // The robot's pose now, so that the first frames do not show it in the URDF's zero pose.
   if (robot_state_available_) {
@@ -403,6 +464,7 @@ void SpotSource::finish_call(ImageCall& call) {
   frames->images = std::move(set.images);
   frames->encoded = std::move(set.encoded);
   frames->joints = joints_;
+  frames->cloud = next_cloud();
   on_frame_(std::move(frames));
 }
 
@@ -514,17 +576,20 @@ void SpotSource::run() {
     } catch (const SpotError& e) {
       calls_.cancel_all();  // their answers would come from a session that is being repaired
       joint_reader_.cancel();
+      cloud_reader_.cancel();
       if (session_.cancelled()) break;
       if (!sleep_until(Clock::now() + on_error(e))) break;
     } catch (const std::exception& e) {  // a rig the core refuses, a bad allocation: keep going
       calls_.cancel_all();
       joint_reader_.cancel();
+      cloud_reader_.cancel();
       if (session_.cancelled()) break;
       if (!sleep_until(Clock::now() + on_error(SpotError(SpotError::Kind::kProtocol, e.what())))) break;
     }
   }
   calls_.cancel_all();
   joint_reader_.cancel();
+  cloud_reader_.cancel();
 }
 
 std::unique_ptr<Source> make_spot_source(const SourceConfig& config) { return std::make_unique<SpotSource>(config); }
@@ -534,7 +599,8 @@ void register_spot_source() {
   std::call_once(once, [] {
     register_source_type("spot",
                          "Boston Dynamics Spot over its gRPC API (keys: robot, ca_file, credentials_file, cameras, "
-                         "rate_hz, image_format, jpeg_quality, pixel_format, timeout_s, requests_in_flight)",
+                         "rate_hz, image_format, jpeg_quality, pixel_format, timeout_s, requests_in_flight, "
+                         "point_cloud_source)",
                          make_spot_source);
   });
 }

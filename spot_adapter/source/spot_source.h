@@ -4,7 +4,8 @@
 // One thread per source: connect (login, robot id, directory, image sources and frame
 // tree -> rig), then while some view needs cameras pull them in one GetImage per cycle at
 // rate_hz, up to requests_in_flight calls overlapping (a Wi-Fi round trip is longer than a
-// cycle), answers handled in order; with nobody watching nothing is pulled. A robot that goes away is retried with
+// cycle), answers handled in order; with nobody watching nothing is pulled. While a cloud is
+// wanted, each cycle also asks the lidar for one (cloud_calls.h) and attaches the newest. A robot that goes away is retried with
 // a short backoff (views resume within about a second of its return); refused logins are
 // retried rarely, so a wrong password never trips the robot's lockout.
 #pragma once
@@ -20,6 +21,7 @@
 #include "spot_adapter/client/robot_clock.h"
 #include "spot_adapter/client/robot_session.h"
 #include "spot_adapter/client/spot_error.h"
+#include "spot_adapter/source/cloud_calls.h"
 #include "spot_adapter/source/image_calls.h"
 #include "spot_adapter/source/image_set.h"
 #include "spot_adapter/source/joint_states.h"
@@ -38,6 +40,8 @@ class SpotSource : public Source {
   void start(FrameCallback on_frame) override;
   void stop() override;
   void set_wanted_cameras(const std::vector<bool>& wanted) override;
+  bool provides_clouds() const override;
+  void set_cloud_wanted(bool wanted) override;
   SourceHealth health() const override;
   std::shared_ptr<const std::map<std::string, double>> latest_joints() const override;
 
@@ -65,6 +69,7 @@ class SpotSource : public Source {
   FrameCallback on_frame_;
   ImageCalls calls_;  // before thread_: the thread uses these until joined
   JointStateReader joint_reader_;
+  CloudReader cloud_reader_;
   std::thread thread_;
 
   // Only the source's thread touches these.
@@ -90,6 +95,10 @@ class SpotSource : public Source {
   // it never shows the legs of the last once-a-second idle read.
   bool idle_since_last_frame_ = false;
   bool robot_state_available_ = true;  // false once the robot said it has no such service
+  // The robot's lidar (point_cloud_source), found at connect; empty: no clouds.
+  std::string cloud_source_;
+  // The newest cloud since the last image set, while one is wanted; asks for the next.
+  std::shared_ptr<const PointCloud> next_cloud();
   RobotClock clock_;
   std::chrono::steady_clock::time_point clock_updated_;
   bool time_sync_available_ = true;  // false once the robot said it has no such service
@@ -98,6 +107,8 @@ class SpotSource : public Source {
   std::condition_variable wake_;
   bool stopping_ = false;
   std::vector<bool> wanted_;  // by rig camera (= slot) index
+  bool cloud_wanted_ = false;
+  bool clouds_missing_ = false;  // connected, and the robot has no (such) point-cloud source
   std::shared_ptr<const std::map<std::string, double>> latest_joints_;
   std::shared_ptr<const Rig> rig_;
   uint64_t rig_version_ = 1;

@@ -1,0 +1,54 @@
+// Coloured clouds: who watches a source's cloud, and handing each cloud the source delivers
+// to its CloudDelivery (cloud/cloud_delivery.h) on the source's render worker.
+#include "server/pipeline/pipeline.h"
+
+namespace omniview {
+
+CloudDelivery& Pipeline::clouds(const std::string& source) const { return *clouds_.at(source); }
+
+std::shared_ptr<CloudSubscriber> Pipeline::subscribe_cloud(const std::string& source, const std::string& peer,
+                                                           CloudRequest request, double max_rate_hz) {
+  if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
+  SourceChannel& ch = channel(source);  // NOT_FOUND for an unknown source
+  const std::string name = ch.source().name();
+  if (!ch.source().provides_clouds()) {
+    throw ApiError(grpc::StatusCode::FAILED_PRECONDITION,
+                   "source '" + name + "' (type " + ch.source().type() + ") delivers no point clouds");
+  }
+  if (!request.frame.empty()) {
+    const auto r = rig(name);
+    if (!r->frames().has_frame(request.frame)) {
+      std::string known;
+      for (const auto& f : r->known_frames()) known += (known.empty() ? "" : ", ") + f;
+      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
+                     "options.frame: '" + request.frame + "' is not a frame of source '" + name + "' (frames: " + known + ")");
+    }
+  }
+  auto s = std::make_shared<CloudSubscriber>(peer, std::move(request), max_rate_hz);
+  clouds(name).add(s);
+  update_wanted_cameras(name);
+  return s;
+}
+
+void Pipeline::unsubscribe_cloud(const std::string& source, const CloudSubscriber* subscriber) {
+  const std::string name = channel(source).source().name();
+  clouds(name).remove(subscriber);
+  update_wanted_cameras(name);
+}
+
+void Pipeline::deliver_cloud(SourceChannel& ch, const FrameSet& frames) {
+  const std::string& name = ch.source().name();
+  CloudDelivery& delivery = clouds(name);
+  if (delivery.subscriber_count() == 0) return;
+  // A new rig (a robot that just connected) may bring new cameras: ask for all of them.
+  if (frames.rig && frames.rig != ch.cloud_rig_seen()) {
+    ch.set_cloud_rig_seen(frames.rig);
+    update_wanted_cameras(name);
+  }
+  if (!frames.cloud) return;
+  std::shared_ptr<const JointMap> joints;
+  if (const auto it = robot_joints_.find(name); it != robot_joints_.end()) joints = it->second->effective(frames.joints);
+  delivery.deliver(frames, joints);
+}
+
+}  // namespace omniview

@@ -1,0 +1,102 @@
+// Who watches what: frame subscribers, recording taps, and which cameras they make the
+// source pull.
+#include "server/pipeline/pipeline.h"
+
+#include <algorithm>
+
+#include "server/pipeline/camera_sampling.h"
+
+namespace omniview {
+
+std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const std::string& peer, EncodingKey key,
+                                                double max_rate_hz) {
+  if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
+  auto view = find_view(name);
+  auto s = std::make_shared<Subscriber>(peer, key, max_rate_hz);
+  view->add_subscriber(s);
+  update_wanted_cameras(view->state()->spec.source);
+  return s;
+}
+
+void Pipeline::unsubscribe(const std::string& name, const Subscriber* subscriber) {
+  std::shared_ptr<LiveView> view;
+  {
+    std::lock_guard lock(views_mutex_);
+    // The view may have been renamed or deleted meanwhile: search by subscriber.
+    for (const auto& [n, v] : views_) {
+      for (const auto& s : v->subscribers()) {
+        if (s.get() == subscriber) view = v;
+      }
+    }
+    if (!view) {
+      const auto it = views_.find(name);
+      if (it != views_.end()) view = it->second;
+    }
+  }
+  if (!view) return;
+  view->remove_subscriber(subscriber);
+  update_wanted_cameras(view->state()->spec.source);
+}
+
+std::shared_ptr<FrameSetTap> Pipeline::tap(const std::string& source) {
+  if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
+  SourceChannel& ch = channel(source);
+  auto t = std::make_shared<FrameSetTap>(limits_.record_queue);
+  ch.add_tap(t);
+  update_wanted_cameras(ch.source().name());
+  return t;
+}
+
+void Pipeline::untap(const std::string& source, const FrameSetTap* t) {
+  SourceChannel& ch = channel(source);
+  ch.remove_tap(t);
+  update_wanted_cameras(ch.source().name());
+}
+
+void Pipeline::update_wanted_cameras(const std::string& source) {
+  SourceChannel* ch = nullptr;
+  for (auto& c : channels_) {
+    if (c->source().name() == source) ch = c.get();
+  }
+  if (!ch) return;
+  const auto r = rig(source);
+  std::vector<bool> wanted(r->cameras().size(), ch->tap_count() > 0);  // a recording takes everything
+  std::vector<std::shared_ptr<LiveView>> views;
+  {
+    std::lock_guard lock(views_mutex_);
+    for (const auto& [_, v] : views_) views.push_back(v);
+  }
+  // And how coarsely they sample each camera (the finest view decides; a recording
+  // keeps full resolution).
+  std::vector<double> spacing(wanted.size(), 0);
+  const auto take_finest = [&](size_t i, double s) {
+    if (s > 0) spacing[i] = spacing[i] == 0 ? s : std::min(spacing[i], s);
+  };
+  if (ch->tap_count() > 0) {
+    for (size_t i = 0; i < spacing.size(); ++i) take_finest(i, 1.0 / std::max(1, r->cameras()[i].width));
+  }
+  for (const auto& v : views) {
+    const auto state = v->state();
+    if (state->spec.source != source || v->subscriber_count() == 0) continue;
+    for (size_t i = 0; i < wanted.size() && i < state->map->camera_used.size(); ++i) {
+      if (state->map->camera_used[i]) wanted[i] = true;
+    }
+    const auto sampling = camera_sampling(*state->map);
+    for (size_t i = 0; i < spacing.size() && i < sampling.size(); ++i) take_finest(i, sampling[i]);
+  }
+  // A cloud is coloured from every camera, at full resolution.
+  const bool cloud_wanted = clouds(source).subscriber_count() > 0;
+  if (cloud_wanted) {
+    for (size_t i = 0; i < wanted.size(); ++i) {
+      wanted[i] = true;
+      take_finest(i, 1.0 / std::max(1, r->cameras()[i].width));
+    }
+  }
+  // Sampling first: a source that starts decoding for a new watcher then decodes at the
+  // size the views need from its first frame.
+  ch->source().set_camera_sampling(spacing);
+  ch->source().set_cloud_wanted(cloud_wanted);
+  ch->source().set_wanted_cameras(wanted);
+}
+
+}  // namespace omniview

@@ -1,0 +1,204 @@
+// Views: create, update, delete, look up; clicks and points (PixelToRay, PointToPixel).
+#include "server/pipeline/pipeline.h"
+
+#include <chrono>
+
+#include <yaml-cpp/yaml.h>
+
+#include "core/io/quote.h"
+#include "core/view/view_yaml.h"
+#include "server/convert/convert.h"
+
+namespace omniview {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+}  // namespace
+
+std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uint64_t revision) const {
+  if (spec.name.empty()) throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "a view needs a name");
+  const std::string what = "view " + quote_prefix(spec.name);
+  if (static_cast<int64_t>(spec.width) * spec.height > limits_.max_view_pixels && spec.width > 0 && spec.height > 0) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
+                   what + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                       " pixels is more than this daemon allows (limits.max_view_pixels = " +
+                       std::to_string(limits_.max_view_pixels) + ")");
+  }
+  try {
+    validate(spec);  // the one check of every field, before anything uses one (CreateView, UpdateView, config)
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+  }
+  auto state = std::make_shared<ViewState>();
+  state->spec = spec;
+  state->revision = revision;
+  try {
+    state->view = View::create(spec);
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+  }
+  if (spec.overlay && !robot_models_.count(spec.source)) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
+                   what + ": overlay needs a robot model for source '" + spec.source +
+                       "' (robot_models in the daemon's config), and it has none");
+  }
+  state->rig = rig(spec.source);
+  const Rig& r = *state->rig;
+  const std::string frame = spec.frame.empty() ? r.default_frame() : spec.frame;
+  if (!r.frames().has_frame(frame)) {
+    std::string known;
+    for (const auto& f : r.frames().frames()) known += (known.empty() ? "" : ", ") + f;
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
+                   what + ": frame '" + frame + "' is not in source '" + channel(spec.source).source().name() +
+                       "' (frames: " + known + ")");
+  }
+  const auto t0 = Clock::now();
+  try {
+    state->map = std::make_shared<const FusionMap>(build_map(r, *state->view));
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+  }
+  state->build_ms = ms_since(t0);
+  state->coverage = state->map->coverage();
+
+  auto d = std::make_shared<v1::View>();
+  *d->mutable_spec() = to_proto(spec);
+  d->set_revision(revision);
+  for (double v : pinhole_intrinsics(*state->view)) d->add_intrinsics(v);
+  d->set_robot_frame(r.default_frame());
+  const Pose T_robot_view = r.frames().lookup(r.default_frame(), frame) * spec.T_frame_view();
+  *d->mutable_pose() = to_proto(T_robot_view);
+  YAML::Emitter yaml;
+  yaml.SetDoublePrecision(12);  // 0.42, not 0.41999999999999998: people read and edit it
+  yaml << view_to_yaml(spec);
+  d->set_yaml(yaml.c_str());
+  state->T_robot_view = T_robot_view;
+  state->description = std::move(d);
+  return state;
+}
+
+v1::View Pipeline::create_view(ViewSpec spec) {
+  if (spec.source.empty()) spec.source = channel("").source().name();
+  channel(spec.source);  // NOT_FOUND for an unknown source, before the expensive part
+  {
+    std::lock_guard lock(views_mutex_);
+    if (views_.count(spec.name)) {
+      throw ApiError(grpc::StatusCode::ALREADY_EXISTS,
+                     "a view named '" + spec.name + "' exists already (update it, or delete it first)");
+    }
+    if (static_cast<int>(views_.size()) >= limits_.max_views) {
+      throw ApiError(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                     "this daemon keeps at most " + std::to_string(limits_.max_views) +
+                         " views (limits.max_views); delete one first");
+    }
+  }
+  auto state = build_state(spec, 1);
+  auto view = std::make_shared<LiveView>(state);
+  view->record_map_build(state->build_ms);
+  {
+    std::lock_guard lock(views_mutex_);
+    if (!views_.emplace(spec.name, view).second) {
+      throw ApiError(grpc::StatusCode::ALREADY_EXISTS, "a view named '" + spec.name + "' exists already");
+    }
+  }
+  return *state->description;
+}
+
+v1::View Pipeline::update_view(const std::string& name, const v1::ViewSpec& set, const v1::ViewDelta& delta) {
+  auto view = find_view(name);
+  std::lock_guard change(view->change_mutex());
+  const auto old = view->state();
+  ViewSpec spec = old->spec;
+  try {
+    apply_patch(set, spec);
+    apply_delta(delta, spec);
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+  }
+  if (spec.source.empty()) spec.source = channel("").source().name();
+  channel(spec.source);
+  const bool renamed = spec.name != name;
+  if (renamed) {
+    std::lock_guard lock(views_mutex_);
+    if (views_.count(spec.name)) {
+      throw ApiError(grpc::StatusCode::ALREADY_EXISTS, "cannot rename view '" + name + "' to '" + spec.name +
+                                                           "': a view of that name exists");
+    }
+  }
+  auto state = build_state(spec, old->revision + 1);
+  view->set_state(state);
+  view->record_map_build(state->build_ms);
+  for (const auto& s : view->subscribers()) s->set_min_revision(state->revision);
+  if (renamed) {
+    std::lock_guard lock(views_mutex_);
+    views_.erase(name);
+    views_.emplace(spec.name, view);
+  }
+  update_wanted_cameras(spec.source);
+  if (old->spec.source != spec.source) update_wanted_cameras(old->spec.source);
+  return *state->description;
+}
+
+void Pipeline::delete_view(const std::string& name) {
+  std::shared_ptr<LiveView> view;
+  {
+    std::lock_guard lock(views_mutex_);
+    const auto it = views_.find(name);
+    if (it == views_.end()) throw ApiError(grpc::StatusCode::NOT_FOUND, "no view named '" + name + "'");
+    view = it->second;
+    views_.erase(it);
+  }
+  view->close_all(grpc::StatusCode::NOT_FOUND, "view '" + name + "' was deleted");
+  update_wanted_cameras(view->state()->spec.source);
+}
+
+v1::View Pipeline::get_view(const std::string& name) const { return *find_view(name)->state()->description; }
+
+std::vector<v1::View> Pipeline::list_views() const {
+  std::vector<v1::View> out;
+  std::lock_guard lock(views_mutex_);
+  for (const auto& [_, v] : views_) out.push_back(*v->state()->description);
+  return out;
+}
+
+v1::PixelToRayResponse Pipeline::pixel_to_ray(const std::string& name, double u, double v) const {
+  const auto state = find_view(name)->state();
+  v1::PixelToRayResponse r;
+  r.set_robot_frame(state->description->robot_frame());
+  *r.mutable_origin() = to_proto(Vec3(state->T_robot_view.translation()));
+  Vec3 dir;
+  if (!std::isfinite(u) || !std::isfinite(v) || !state->view->pixel_to_direction(u, v, dir)) return r;
+  dir.normalize();
+  r.set_valid(true);
+  *r.mutable_direction_view() = to_proto(dir);
+  *r.mutable_direction() = to_proto(Vec3(state->T_robot_view.linear() * dir));
+  Vec3 point;
+  if (state->view->pixel_to_point(u, v, point)) *r.mutable_surface_point() = to_proto(Vec3(state->T_robot_view * point));
+  return r;
+}
+
+v1::PointToPixelResponse Pipeline::point_to_pixel(const std::string& name, const Vec3& point,
+                                                  const std::string& frame) const {
+  const auto state = find_view(name)->state();
+  const Rig& r = *state->rig;
+  const std::string robot = r.default_frame();
+  const auto T_robot_frame = r.frames().try_lookup(robot, frame.empty() ? robot : frame);
+  if (!T_robot_frame) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "frame '" + frame + "' is not connected to '" + robot + "'");
+  }
+  const Vec3 p_view = state->T_robot_view.inverse() * (*T_robot_frame * point);
+  v1::PointToPixelResponse out;
+  Vec2 uv;
+  if (state->view->point_to_pixel(p_view, uv)) {
+    out.set_visible(true);
+    out.set_u(uv.x());
+    out.set_v(uv.y());
+  }
+  return out;
+}
+
+}  // namespace omniview
