@@ -155,6 +155,26 @@ void StreamStopper::run(double duration_s) {
   }
 }
 
+bool StaleNotice::check(const v1::Frame& frame) {
+  if (!frame.stale()) {
+    if (stale_) std::cerr << "omniview: view '" << view_ << "' is live again\n" << std::flush;
+    stale_ = false;
+    return false;
+  }
+  // The reason counts seconds ("... for 4.2 s: it is not connected"): say it again only
+  // when what follows the count changes.
+  const std::string& reason = frame.stale_reason();
+  const size_t count_end = reason.find(" s", reason.find(" for "));
+  const std::string gist = count_end == std::string::npos ? reason : reason.substr(count_end + 2);
+  if (!stale_ || gist != gist_) {
+    std::cerr << "omniview: view '" << view_ << "' is stale, showing its last picture: " << reason << "\n"
+              << std::flush;
+  }
+  stale_ = true;
+  gist_ = gist;
+  return true;
+}
+
 std::string low_coverage_warning(const std::string& view, double coverage) {
   if (coverage >= kLowCoverage) return "";
   return "view '" + view + "' shows only " + fixed(coverage * 100, 0) +

@@ -5,6 +5,8 @@
 #include <google/protobuf/timestamp.pb.h>
 #include <grpcpp/client_context.h>
 
+#include "omniview/v1/omniview.pb.h"
+
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -63,6 +65,21 @@ inline constexpr double kLowCoverage = 0.5;
 // "view 'left' shows only 38 % of its pixels from the cameras; the rest is black: ..."
 // for a coverage below kLowCoverage, else "".
 std::string low_coverage_warning(const std::string& view, double coverage);
+
+// Says on stderr when a view's frames turn stale (its source delivers nothing new; the
+// daemon re-sends the last picture about once a second, Frame.stale) and when they are
+// live again. Stale frames are not new images: commands neither count nor write them.
+class StaleNotice {
+ public:
+  explicit StaleNotice(std::string view) : view_(std::move(view)) {}
+  // Returns frame.stale(); prints on a change (and when the reason changes).
+  bool check(const v1::Frame& frame);
+
+ private:
+  std::string view_;
+  bool stale_ = false;
+  std::string gist_;  // the reason without its count of seconds
+};
 
 // Cancels a streaming call when the user presses Ctrl-C, when `duration_s` (> 0) has
 // passed, or on stop(), so a command can end cleanly and print its summary. A second

@@ -1,11 +1,13 @@
 // `omniview show VIEW`: a live window of a view (OpenCV HighGUI) with keyboard pan, tilt
 // and zoom, for an operator's laptop. Without a display it says so and names the pipe.
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <iostream>
 
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "cli/client/client_commands.h"
 #include "cli/client/command_support.h"
@@ -51,6 +53,15 @@ bool delta_for_key(int key, double step, v1::ViewDelta& delta) {
   }
 }
 
+// A red band across the top with the reason: the picture is the last one the source gave.
+void draw_stale_banner(cv::Mat& image, const std::string& reason) {
+  if (image.channels() == 1) cv::cvtColor(image, image, cv::COLOR_GRAY2BGR);
+  const int band = std::max(18, image.rows / 24);
+  cv::rectangle(image, {0, 0, image.cols, band}, cv::Scalar(0, 0, 160), cv::FILLED);
+  cv::putText(image, "STALE: " + reason, {6, band * 3 / 4}, cv::FONT_HERSHEY_SIMPLEX, band / 36.0,
+              cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+}
+
 }  // namespace
 
 int show_command(const std::vector<std::string>& argv) {
@@ -81,10 +92,13 @@ int show_command(const std::vector<std::string>& argv) {
   auto reader = connection.stub().StreamFrames(&context, request);
   v1::Frame frame;
   uint64_t frames = 0;
+  StaleNotice stale(request.view());
   while (reader->Read(&frame)) {
     if (frames++ == 0) print_stream_note(context);
     const std::string& data = frame.data();
-    const cv::Mat image = cv::imdecode(std::vector<uchar>(data.begin(), data.end()), cv::IMREAD_UNCHANGED);
+    cv::Mat image = cv::imdecode(std::vector<uchar>(data.begin(), data.end()), cv::IMREAD_UNCHANGED);
+    // The last picture again (still steerable): marked, so nobody takes it for live.
+    if (stale.check(frame) && !image.empty()) draw_stale_banner(image, frame.stale_reason());
     if (!image.empty()) cv::imshow(title, image);
     const int key = cv::waitKeyEx(1);
     if (key == 'q' || key == 27 || cv::getWindowProperty(title, cv::WND_PROP_VISIBLE) < 1) {

@@ -60,7 +60,9 @@ int stream_to_stdout(const Args& args, int wanted) {
   v1::Frame frame;
   int written = 0;
   bool reader_gone = false;
+  StaleNotice stale(request.view());
   while ((wanted == 0 || written < wanted) && reader->Read(&frame)) {
+    if (stale.check(frame)) continue;  // the player keeps showing the last picture
     if (written == 0) print_stream_note(context);
     const std::string& data = frame.data();
     if (std::fwrite(data.data(), 1, data.size(), stdout) != data.size() || std::fflush(stdout) != 0) {
@@ -115,7 +117,9 @@ int stream_command(const std::vector<std::string>& argv) {
   v1::Frame frame;
   int written = 0;
   std::ofstream csv;
+  StaleNotice stale(request.view());
   while (written < wanted && reader->Read(&frame)) {
+    if (stale.check(frame)) continue;  // not a new image
     if (written == 0) {  // only now: a wrong view name or a refused call leaves nothing behind
       print_stream_note(context);
       std::filesystem::create_directories(folder);

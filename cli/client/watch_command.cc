@@ -88,8 +88,10 @@ int watch_command(const std::vector<std::string>& argv) {
     std::cout << (tty ? "\r\033[K" + text : text + "\n") << std::flush;
   };
   StallReporter stall(connection, request.view(), print);
+  StaleNotice stale(request.view());
   while (reader->Read(&frame)) {
     stall.frame_arrived();
+    if (stale.check(frame)) continue;  // the last picture again: not a frame
     const double arrival_s = now_seconds();
     if (frames_total > 0 && frame.sequence() > last_sequence + 1) {
       window.skipped += frame.sequence() - last_sequence - 1;

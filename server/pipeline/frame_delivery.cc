@@ -29,6 +29,10 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
     *frame->mutable_capture_time() = to_timestamp(rendered.capture_time);
     *frame->mutable_camera() = *state.description;
     frame->set_coverage(state.coverage);
+    if (rendered.stale) {
+      frame->set_stale(true);
+      frame->set_stale_reason(rendered.stale_reason);
+    }
     encode_frame(rendered.image, key, *frame);
   } catch (const std::exception& e) {
     for (auto& s : subscribers) s->close(grpc::StatusCode::INTERNAL, std::string("cannot encode frames: ") + e.what());
@@ -39,7 +43,7 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
   frame->set_latency_ms(latency_ms);
   SharedFrame shared = std::move(frame);
   for (auto& s : subscribers) s->offer(shared, offered);
-  if (!rendered.counted.exchange(true)) view.record_frame(latency_ms, offered);
+  if (!rendered.stale && !rendered.counted.exchange(true)) view.record_frame(latency_ms, offered);
 }
 
 }  // namespace omniview

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
@@ -21,6 +22,10 @@ struct RenderedFrame {
   std::chrono::system_clock::time_point capture_time;
   std::chrono::steady_clock::time_point arrival;  // of the source's frame set
   std::atomic<bool> counted{false};  // the view's statistics count the first encoding delivered
+  // Rendered again from the source's last images because it delivers nothing new
+  // (staleness.h): sent marked, and not counted as a new frame.
+  bool stale = false;
+  std::string stale_reason;
 };
 
 // Encodes `rendered` in `key`, offers it to `subscribers` (a failed encoding ends their

@@ -38,6 +38,8 @@
 
 namespace omniview {
 
+struct Staleness;
+
 struct PipelineLimits {
   int64_t max_view_pixels = 4096LL * 4096;
   int max_views = 32;
@@ -95,7 +97,10 @@ class Pipeline {
   std::shared_ptr<const ViewState> build_state(const ViewSpec& spec, uint64_t revision) const;
   void update_wanted_cameras(const std::string& source);
   void render_worker(SourceChannel* channel);
-  void render_view(const std::shared_ptr<LiveView>& view, const FrameSet& frames);
+  // `staleness`: set when re-rendering a silent source's last images (staleness.h).
+  void render_view(const std::shared_ptr<LiveView>& view, const FrameSet& frames,
+                   const Staleness* staleness = nullptr);
+  void resend_stale_views(SourceChannel& channel);
   void deliver_cloud(SourceChannel& channel, const FrameSet& frames);
   CloudDelivery& clouds(const std::string& source) const;  // by the source's own name
   RobotJoints& robot_joints(const std::string& source) const;  // throws ApiError

@@ -10,6 +10,7 @@
 #include "core/map/apply.h"
 #include "server/pipeline/frame_delivery.h"
 #include "server/pipeline/frame_encoder.h"
+#include "server/pipeline/staleness.h"
 
 namespace omniview {
 
@@ -21,7 +22,13 @@ using Clock = std::chrono::steady_clock;
 
 void Pipeline::render_worker(SourceChannel* ch) {
   const std::string source = ch->source().name();
-  while (auto frames = ch->next()) {
+  while (true) {
+    auto frames = ch->next(kStaleResendInterval);
+    if (!frames) {
+      if (ch->closed()) return;
+      resend_stale_views(*ch);
+      continue;
+    }
     std::vector<std::shared_ptr<LiveView>> views;
     {
       std::lock_guard lock(views_mutex_);
@@ -49,7 +56,25 @@ void Pipeline::render_worker(SourceChannel* ch) {
   }
 }
 
-void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet& frames) {
+// The source is silent: its watched views, rendered again from its last images and marked.
+// On the render worker's thread, so a view is never rendered by two threads at once.
+void Pipeline::resend_stale_views(SourceChannel& ch) {
+  const auto latest = ch.latest();
+  if (!latest) return;
+  const Staleness staleness = judge_staleness(ch.source().name(), ch.stats(), ch.source().health(), Clock::now());
+  if (!staleness.stale) return;
+  std::vector<std::shared_ptr<LiveView>> views;
+  {
+    std::lock_guard lock(views_mutex_);
+    for (const auto& [_, v] : views_) {
+      if (v->state()->spec.source == ch.source().name() && v->subscriber_count() > 0) views.push_back(v);
+    }
+  }
+  for (const auto& v : views) render_view(v, *latest, &staleness);
+}
+
+void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet& frames,
+                           const Staleness* staleness) {
   const auto state = view->state();
   if (frames.rig && frames.rig != state->rig) request_rebuild(state->spec.name);
   const auto now = Clock::now();
@@ -99,6 +124,10 @@ void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet
   rendered->sequence = frames.sequence;
   rendered->capture_time = frames.capture_time;
   rendered->arrival = frames.arrival;
+  if (staleness) {
+    rendered->stale = true;
+    rendered->stale_reason = staleness->reason;
+  }
   // Encoding is the encoder pool's: this thread goes on to the next view or frame set.
   const int width = rendered->image.cols, height = rendered->image.rows;
   for (auto& [key, subscribers] : groups) {

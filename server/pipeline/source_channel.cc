@@ -27,11 +27,16 @@ void SourceChannel::deliver(std::shared_ptr<const FrameSet> frames) {
   for (const auto& t : taps) t->offer(frames);
 }
 
-std::shared_ptr<const FrameSet> SourceChannel::next() {
+std::shared_ptr<const FrameSet> SourceChannel::next(std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
-  ready_.wait(lock, [&] { return pending_ || closed_; });
+  ready_.wait_for(lock, timeout, [&] { return pending_ || closed_; });
   if (closed_) return nullptr;
   return std::exchange(pending_, nullptr);
+}
+
+bool SourceChannel::closed() const {
+  std::lock_guard lock(mutex_);
+  return closed_;
 }
 
 void SourceChannel::close() {

@@ -35,9 +35,11 @@ class SourceChannel {
 
   // Source thread: store the newest frame set and wake the worker. Never blocks for long.
   void deliver(std::shared_ptr<const FrameSet> frames);
-  // Worker thread: the next frame set, or null once closed.
-  std::shared_ptr<const FrameSet> next();
+  // Worker thread: the next frame set; null once closed, or when none came within
+  // `timeout` (the worker then checks whether its views have gone stale).
+  std::shared_ptr<const FrameSet> next(std::chrono::milliseconds timeout);
   void close();
+  bool closed() const;
 
   // The newest frame set seen (for snapshots of rig and images), may be null.
   std::shared_ptr<const FrameSet> latest() const;

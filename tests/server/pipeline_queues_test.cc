@@ -1,5 +1,6 @@
-// The pipeline's two hand-off structures, without a daemon: a recording's bounded frame-set
-// queue (FrameSetTap) and the encoder pool's lanes and per-group slots (EncoderPool).
+// The pipeline's hand-off structures, without a daemon: a recording's bounded frame-set
+// queue (FrameSetTap), the encoder pool's lanes and per-group slots (EncoderPool), a
+// source channel's wait for the next frame set, and when a silent source's views go stale.
 // Everything here is ordered by latches, not by sleeps, so it holds on a loaded machine.
 #include <gtest/gtest.h>
 
@@ -14,6 +15,8 @@
 
 #include "server/pipeline/encoder_pool.h"
 #include "server/pipeline/frame_set_tap.h"
+#include "server/pipeline/source_channel.h"
+#include "server/pipeline/staleness.h"
 
 namespace omniview {
 namespace {
@@ -192,6 +195,53 @@ TEST(EncoderPool, PngAndHugeViewsGoToTheSlowLane) {
   EXPECT_FALSE(EncoderPool::expensive(kJpeg, 2048, 1024));
   EXPECT_FALSE(EncoderPool::expensive({v1::RAW, 0, false}, 2048, 2048));
   EXPECT_TRUE(EncoderPool::expensive(kJpeg, 4096, 2048));
+}
+
+TEST(SourceChannel, NextReturnsNothingAfterItsTimeoutAndNullOnceClosed) {
+  struct Silent : Source {
+    Silent() : Source("silent") {}
+    std::string type() const override { return "test"; }
+    std::shared_ptr<const Rig> rig() const override { return std::make_shared<Rig>(); }
+    void start(FrameCallback) override {}
+    void stop() override {}
+    SourceHealth health() const override { return {}; }
+  };
+  SourceChannel channel(std::make_unique<Silent>());
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(channel.next(50ms), nullptr);
+  EXPECT_GE(std::chrono::steady_clock::now() - t0, 50ms);
+  EXPECT_FALSE(channel.closed());
+  auto f = frame_set(7);
+  std::const_pointer_cast<FrameSet>(f)->arrival = std::chrono::steady_clock::now();
+  channel.deliver(f);
+  EXPECT_EQ(channel.next(50ms), f);
+  channel.close();
+  EXPECT_EQ(channel.next(10s), nullptr);  // at once
+  EXPECT_TRUE(channel.closed());
+}
+
+TEST(Staleness, AfterTheLongerOfOneAndAHalfSecondsAndFourFrameIntervals) {
+  const auto now = std::chrono::steady_clock::now();
+  SourceStats stats;
+  SourceHealth health;
+  health.connected = true;
+  EXPECT_FALSE(judge_staleness("cam", stats, health, now).stale) << "nothing delivered yet: nothing to re-send";
+  stats.last_arrival = now - 1200ms;
+  stats.mean_interval_s = 1.0 / 30;
+  EXPECT_FALSE(judge_staleness("cam", stats, health, now).stale);
+  stats.last_arrival = now - 1600ms;
+  const Staleness s = judge_staleness("cam", stats, health, now);
+  EXPECT_TRUE(s.stale);
+  EXPECT_EQ(s.reason, "no new images from source 'cam' for 1.6 s");
+  stats.mean_interval_s = 2;  // a 0.5 Hz source
+  EXPECT_FALSE(judge_staleness("cam", stats, health, now).stale);
+  stats.last_arrival = now - 8100ms;
+  EXPECT_TRUE(judge_staleness("cam", stats, health, now).stale);
+  health.connected = false;
+  health.message = "camera unplugged; looking for it every second";
+  EXPECT_EQ(judge_staleness("cam", stats, health, now).reason,
+            "no new images from source 'cam' for 8.1 s: it is not connected (camera unplugged; looking for it every "
+            "second)");
 }
 
 }  // namespace

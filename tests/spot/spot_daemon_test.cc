@@ -197,7 +197,11 @@ class FrameReader {
       v1::Frame f;
       while (reader_->Read(&f)) {
         std::lock_guard lock(mutex_);
-        arrivals_.push_back(Clock::now());
+        if (f.stale()) {
+          stale_.push_back({Clock::now(), f.stale_reason()});
+        } else {
+          arrivals_.push_back(Clock::now());
+        }
       }
     });
   }
@@ -205,9 +209,18 @@ class FrameReader {
     context_->TryCancel();
     thread_.join();
   }
+  // Live frames (stale ones, the last picture sent again while the robot is silent, apart).
   size_t frames() const {
     std::lock_guard lock(mutex_);
     return arrivals_.size();
+  }
+  struct Stale {
+    Clock::time_point arrival;
+    std::string reason;
+  };
+  std::vector<Stale> stale_frames() const {
+    std::lock_guard lock(mutex_);
+    return stale_;
   }
   // The first frame that arrived after `t`, if any.
   std::optional<Clock::time_point> first_after(Clock::time_point t) const {
@@ -223,6 +236,7 @@ class FrameReader {
   std::unique_ptr<grpc::ClientReader<v1::Frame>> reader_;
   mutable std::mutex mutex_;
   std::vector<Clock::time_point> arrivals_;
+  std::vector<Stale> stale_;
   std::thread thread_;
 };
 
@@ -508,11 +522,22 @@ TEST(SpotSource, ViewsResumeWithinTwoSecondsOfTheRobotsReturn) {
   FrameReader reader(*stub, "birdseye");
   ASSERT_TRUE(eventually([&] { return reader.frames() >= 5; }, 15s)) << daemon.log();
 
+  const auto gone = Clock::now();
   mock->stop(SIGKILL);  // the robot walks out of Wi-Fi range, or reboots
   mock.reset();
   ASSERT_TRUE(eventually([&] { return !source_status(*stub).connected(); }, 10s)) << daemon.log();
   EXPECT_NE(source_status(*stub).message().find("retrying"), std::string::npos) << source_status(*stub).message();
   std::this_thread::sleep_for(3s);  // long enough for any backoff to have grown
+
+  // Meanwhile the client got the last picture again, about once a second, marked stale
+  // with the reason, and no live frame.
+  const auto stale = reader.stale_frames();
+  ASSERT_GE(stale.size(), 2u) << daemon.log();
+  EXPECT_LT(std::chrono::duration<double>(stale.front().arrival - gone).count(), 3.0 * test_time_scale());
+  EXPECT_NE(stale.back().reason.find("no new images from source 'spot'"), std::string::npos) << stale.back().reason;
+  EXPECT_NE(stale.back().reason.find("not connected"), std::string::npos) << stale.back().reason;
+  EXPECT_LE(stale.size(), 1 + std::chrono::duration<double>(Clock::now() - gone).count() / 0.9) << "about 1 Hz";
+  const size_t live_before = reader.frames();
 
   mock = std::make_unique<SpotMock>(dir, port);
   const auto back = Clock::now();
@@ -520,6 +545,7 @@ TEST(SpotSource, ViewsResumeWithinTwoSecondsOfTheRobotsReturn) {
   const double resumed_s = std::chrono::duration<double>(*reader.first_after(back) - back).count();
   std::cout << "frames resumed " << resumed_s << " s after the robot was back\n";
   EXPECT_LT(resumed_s, 2.0 * test_time_scale());
+  EXPECT_GT(reader.frames(), live_before);
   EXPECT_TRUE(source_status(*stub).connected());
   expect_no_secrets(daemon.log(), mock_password(dir));
   expect_no_secrets(mock->log(), mock_password(dir));
