@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -132,7 +133,20 @@ template <int C>
   }
 }
 
-void apply_row_general(const FusionMap& map, size_t first, const Source* sources, int n, int oc, uint8_t* out) {
+// Gains as one 256-entry table per camera and output channel, applied to each sample after
+// interpolation: a gain is linear, so this equals interpolating gained images (up to
+// rounding), costs one L1 load per channel of the pixels that read a camera, and leaves
+// the input images alone (scaling them would be a pass over every input pixel, and they
+// are shared with other views). Scaling the blend weights instead could not brighten a
+// pixel only one camera sees.
+[[gnu::always_inline]] inline void apply_lut(const uint8_t* lut, int cam, int oc, uint8_t* px) {
+  if (lut == nullptr) return;
+  const uint8_t* table = lut + static_cast<size_t>(cam) * oc * 256;
+  for (int c = 0; c < oc; ++c) px[c] = table[c * 256 + px[c]];
+}
+
+void apply_row_general(const FusionMap& map, size_t first, const Source* sources, const uint8_t* lut, int n, int oc,
+                       uint8_t* out) {
   const bool blend = !map.secondary.empty();
   const int cameras = static_cast<int>(map.camera_sizes.size());
   for (int i = 0; i < n; ++i, out += oc) {
@@ -142,12 +156,14 @@ void apply_row_general(const FusionMap& map, size_t first, const Source* sources
       continue;
     }
     sample_any(sources[e.cam + e.level * cameras], e, oc, out);
+    apply_lut(lut, e.cam, oc, out);
     if (!blend) continue;
     const MapEntry& e2 = map.secondary[first + i];
     const uint32_t w = map.primary_weight[first + i];
     if (e2.cam == kNoCamera || w >= 256) continue;
     uint8_t other[3];
     sample_any(sources[e2.cam + e2.level * cameras], e2, oc, other);
+    apply_lut(lut, e2.cam, oc, other);
     for (int c = 0; c < oc; ++c) out[c] = static_cast<uint8_t>((out[c] * w + other[c] * (256 - w) + 128) >> 8);
   }
 }
@@ -197,8 +213,27 @@ bool simd_enabled() { return g_simd_enabled; }
 }  // namespace apply_internal
 
 void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat& out, int out_channels) {
+  apply_map(map, images, out, out_channels, CameraGains{});
+}
+
+void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat& out, int out_channels,
+               const CameraGains& gains) {
   if (out_channels != 1 && out_channels != 3) {
     throw std::invalid_argument("output must have 1 or 3 channels, not " + std::to_string(out_channels));
+  }
+  std::vector<uint8_t> lut;
+  if (!gains.empty()) {
+    if (gains.channels != out_channels || gains.cameras() != map.camera_sizes.size() ||
+        gains.gain.size() != gains.cameras() * static_cast<size_t>(out_channels)) {
+      throw std::invalid_argument("gains are for " + std::to_string(gains.cameras()) + " camera(s) and " +
+                                  std::to_string(gains.channels) + " channel(s), the view has " +
+                                  std::to_string(map.camera_sizes.size()) + " and " + std::to_string(out_channels));
+    }
+    lut.resize(gains.gain.size() * 256);
+    for (size_t t = 0; t < gains.gain.size(); ++t) {
+      const float g = std::isfinite(gains.gain[t]) ? std::max(gains.gain[t], 0.0f) : 1.0f;
+      for (int v = 0; v < 256; ++v) lut[t * 256 + v] = cv::saturate_cast<uint8_t>(g * static_cast<float>(v));
+    }
   }
   if (images.size() != map.camera_sizes.size()) {
     throw std::invalid_argument("expected " + std::to_string(map.camera_sizes.size()) + " images (one per camera), got " +
@@ -210,7 +245,7 @@ void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat
   for (size_t i = 0; i < map.camera_levels.size(); ++i) levels = std::max<int>(levels, map.camera_levels[i]);
   std::vector<Source> sources(cameras * (levels + 1));
   std::vector<cv::Mat> continuous(sources.size());
-  bool uniform = map.secondary.empty();
+  bool uniform = map.secondary.empty() && lut.empty();  // the fast rows know no gains
   for (size_t i = 0; i < images.size(); ++i) {
     if (!map.camera_used[i]) continue;
     const cv::Mat& img = images[i];
@@ -272,7 +307,7 @@ void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat
       } else if (uniform) {
         apply_row_uniform_grey(&map.primary[first], sources.data(), static_cast<int>(cameras), w, dst);
       } else {
-        apply_row_general(map, first, sources.data(), w, out_channels, dst);
+        apply_row_general(map, first, sources.data(), lut.empty() ? nullptr : lut.data(), w, out_channels, dst);
       }
     }
   }, stripes);

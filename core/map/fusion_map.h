@@ -61,6 +61,9 @@ struct FusionMap {
   // Blend only: a second camera and the primary's weight out of 256 (256: primary alone).
   MapEntries secondary;
   std::vector<uint16_t> primary_weight;
+  // Blend with gain compensation: the output pixels (row-major indices) where gain
+  // estimation compares the primary and secondary cameras (core/gain/overlap_samples.h).
+  std::vector<uint32_t> gain_samples;
   // Size of each rig camera's image, as calibrated (apply() checks inputs against it).
   std::vector<cv::Size> camera_sizes;
   std::vector<std::string> camera_names;
