@@ -1,10 +1,14 @@
 // Gain compensation and seam placement on the synthetic scene: cameras rendered with
 // different exposures, fused by a blend view, with and without per-camera gains.
 //
-// Measured (this file prints every figure):
-//   two colour cameras, exposures 0.7 / 1.3: seam step 41.4 -> 1.5 grey levels, PSNR 21.4 -> 38.5 dB
-//   Spot's front view, five grey cameras at 0.7 / 1.3 / 1.0 / 1.15 / 0.85: ... (see below)
-//   equal exposures: PSNR unchanged (within 0.01 dB)
+// Seam step: the mean absolute difference of the two cameras' samples over the overlap.
+// PSNR: against the scene's truth times the global gain that fits best. Measured (the
+// tests print every figure):
+//   two colour cameras at 0.7 / 1.3, 1024x512: step 72.6 -> 1.9 grey levels (38x),
+//     PSNR 16.1 -> 37.2 dB
+//   Spot's front view (config/spot.yaml), five grey cameras at 0.7 / 1.3 / 1.0 / 1.15 / 0.85:
+//     step 51.4 -> 1.0 (50x), PSNR 16.6 -> 41.2 dB
+//   equal exposures: gains within 0.001 of 1, PSNR unchanged (52.75 and 52.79 dB both ways)
 #include <gtest/gtest.h>
 
 #include <cmath>
