@@ -134,37 +134,56 @@ template <int C>
 }
 
 // Gains as one 256-entry table per camera and output channel, applied to each sample after
-// interpolation: a gain is linear, so this equals interpolating gained images (up to
-// rounding), costs one L1 load per channel of the pixels that read a camera, and leaves
-// the input images alone (scaling them would be a pass over every input pixel, and they
-// are shared with other views). Scaling the blend weights instead could not brighten a
-// pixel only one camera sees.
-[[gnu::always_inline]] inline void apply_lut(const uint8_t* lut, int cam, int oc, uint8_t* px) {
-  if (lut == nullptr) return;
-  const uint8_t* table = lut + static_cast<size_t>(cam) * oc * 256;
-  for (int c = 0; c < oc; ++c) px[c] = table[c * 256 + px[c]];
+// interpolation (a gain is linear, so this equals interpolating gained images, up to
+// rounding). Only blend maps carry gains, and they take these general rows anyway, so the
+// nearest-centre hot paths (AVX2 included) are untouched. Measured against the
+// alternatives on a 1024x512 blend (bench/gain_bench.cc): cv::LUT over the input images
+// costs a pass over every input pixel (~0.15 ms per 640x480 grey image, 0.8 ms per colour
+// one, whose 3-channel tables OpenCV does not vectorise), more than the look-ups here;
+// scaling the blend weights by the gains needs a saturating 32-bit multiply per channel
+// and was no faster. The tables (5 cameras x 3 x 256 bytes) stay in L1.
+template <int OC>
+[[gnu::always_inline]] inline void apply_lut(const uint8_t* __restrict lut, int cam, uint8_t* __restrict px) {
+  const uint8_t* __restrict table = lut + static_cast<size_t>(cam) * OC * 256;
+  uint8_t v[OC];
+  for (int c = 0; c < OC; ++c) v[c] = table[c * 256 + px[c]];
+  for (int c = 0; c < OC; ++c) px[c] = v[c];
 }
 
-void apply_row_general(const FusionMap& map, size_t first, const Source* sources, const uint8_t* lut, int n, int oc,
-                       uint8_t* out) {
+// Compiled per output channel count and with or without gains, so the loops over channels
+// unroll and the rows without gains run exactly as before.
+template <int OC, bool kGains>
+void apply_row_general(const FusionMap& map, size_t first, const Source* sources, const uint8_t* __restrict lut, int n,
+                       uint8_t* __restrict out) {
   const bool blend = !map.secondary.empty();
   const int cameras = static_cast<int>(map.camera_sizes.size());
-  for (int i = 0; i < n; ++i, out += oc) {
+  for (int i = 0; i < n; ++i, out += OC) {
     const MapEntry& e = map.primary[first + i];
     if (e.cam == kNoCamera) {
-      std::memset(out, 0, oc);
+      std::memset(out, 0, OC);
       continue;
     }
-    sample_any(sources[e.cam + e.level * cameras], e, oc, out);
-    apply_lut(lut, e.cam, oc, out);
+    sample_any(sources[e.cam + e.level * cameras], e, OC, out);
+    if constexpr (kGains) apply_lut<OC>(lut, e.cam, out);
     if (!blend) continue;
     const MapEntry& e2 = map.secondary[first + i];
     const uint32_t w = map.primary_weight[first + i];
     if (e2.cam == kNoCamera || w >= 256) continue;
     uint8_t other[3];
-    sample_any(sources[e2.cam + e2.level * cameras], e2, oc, other);
-    apply_lut(lut, e2.cam, oc, other);
-    for (int c = 0; c < oc; ++c) out[c] = static_cast<uint8_t>((out[c] * w + other[c] * (256 - w) + 128) >> 8);
+    sample_any(sources[e2.cam + e2.level * cameras], e2, OC, other);
+    if constexpr (kGains) apply_lut<OC>(lut, e2.cam, other);
+    for (int c = 0; c < OC; ++c) out[c] = static_cast<uint8_t>((out[c] * w + other[c] * (256 - w) + 128) >> 8);
+  }
+}
+
+void apply_row_general(const FusionMap& map, size_t first, const Source* sources, const uint8_t* lut, int n, int oc,
+                       uint8_t* out) {
+  if (oc == 3) {
+    lut ? apply_row_general<3, true>(map, first, sources, lut, n, out)
+        : apply_row_general<3, false>(map, first, sources, lut, n, out);
+  } else {
+    lut ? apply_row_general<1, true>(map, first, sources, lut, n, out)
+        : apply_row_general<1, false>(map, first, sources, lut, n, out);
   }
 }
 
