@@ -59,6 +59,8 @@ struct FusionMap {
   // heaviest one when blending).
   MapEntries primary;
   // Blend only: a second camera and the primary's weight out of 256 (256: primary alone).
+  // The second camera is kept wherever it sees the pixel, also where the seam gives it no
+  // weight: gain compensation compares the two there.
   MapEntries secondary;
   std::vector<uint16_t> primary_weight;
   // Blend with gain compensation: the output pixels (row-major indices) where gain
