@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -33,6 +34,23 @@ void sample(const cv::Mat& img, const MapEntry& e, cv::Size level0, int channels
   }
 }
 
+// Camera i's and camera j's mean intensity over their overlap, as the least squares use
+// them: their geometric mean, split by the median ratio (see OverlapStats).
+std::pair<double, double> pair_intensities(const OverlapStats& s, int c, int i, int j) {
+  const double n = s.count[s.index(c, i, j)];
+  const double mean_i = s.sum[s.index(c, i, j)] / n, mean_j = s.sum[s.index(c, j, i)] / n;
+  const bool forward = i < j;
+  static const std::vector<float> kNone;
+  const auto& ratios = s.log_ratio.empty() ? kNone : s.log_ratio[forward ? s.index(c, i, j) : s.index(c, j, i)];
+  if (ratios.empty()) return {mean_i, mean_j};
+  std::vector<float> sorted = ratios;
+  const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+  std::nth_element(sorted.begin(), middle, sorted.end());
+  const double log_ratio = forward ? *middle : -*middle;  // log(I_i / I_j)
+  const double m = std::sqrt(mean_i * mean_j);
+  return {m * std::exp(log_ratio / 2), m * std::exp(-log_ratio / 2)};
+}
+
 }  // namespace
 
 OverlapStats measure_overlaps(const FusionMap& map, const std::vector<cv::Mat>& images, int channels) {
@@ -57,6 +75,7 @@ OverlapStats measure_overlaps(const FusionMap& map, const std::vector<cv::Mat>& 
   const size_t n = static_cast<size_t>(channels) * s.cameras * s.cameras;
   s.count.assign(n, 0);
   s.sum.assign(n, 0);
+  s.log_ratio.assign(n, {});
   for (const uint32_t i : map.gain_samples) {
     const MapEntry& a = map.primary[i];
     const MapEntry& b = map.secondary[i];
@@ -69,6 +88,13 @@ OverlapStats measure_overlaps(const FusionMap& map, const std::vector<cv::Mat>& 
       s.count[s.index(c, b.cam, a.cam)] += 1;
       s.sum[s.index(c, a.cam, b.cam)] += va[c];
       s.sum[s.index(c, b.cam, a.cam)] += vb[c];
+      // A table of log(v) would be faster; a few thousand logs per frame do not show.
+      const float r = std::log(static_cast<float>(va[c]) / static_cast<float>(vb[c]));
+      if (a.cam < b.cam) {
+        s.log_ratio[s.index(c, a.cam, b.cam)].push_back(r);
+      } else {
+        s.log_ratio[s.index(c, b.cam, a.cam)].push_back(-r);
+      }
     }
   }
   return s;
@@ -88,7 +114,7 @@ CameraGains solve_gains(const OverlapStats& stats, const GainPrior& prior) {
       for (int j = 0; j < n; ++j) {
         const double N = stats.count[stats.index(c, i, j)];
         if (N <= 0) continue;
-        const double Iij = stats.sum[stats.index(c, i, j)] / N, Iji = stats.sum[stats.index(c, j, i)] / N;
+        const auto [Iij, Iji] = pair_intensities(stats, c, i, j);
         // d/dg_i of N (g_i Iij - g_j Iji)^2 wn + N (1 - g_i)^2 wg (the pair (j, i) adds
         // the same terms for g_j).
         A(i, i) += N * (Iij * Iij * wn + wg);

@@ -47,6 +47,25 @@ TEST(SolveGains, AgreeingCamerasAndNoSamplesKeepGainsOfOne) {
   for (float g : solve_gains(stats(4)).gain) EXPECT_FLOAT_EQ(g, 1);
 }
 
+TEST(SolveGains, MisregisteredSamplesDoNotMoveTheMedianRatio) {
+  // 60 % of the samples show the scene on the surface (ratio 70 : 130 exactly); 40 % show a
+  // floor off it, where camera 0 happens to see 35 % brighter patches than camera 1.
+  OverlapStats s = stats(2);
+  s.log_ratio.assign(s.count.size(), {});
+  const float registered = std::log(70.0f / 130.0f);
+  cv::RNG rng(3);
+  for (int k = 0; k < 1000; ++k) {
+    s.log_ratio[s.index(0, 0, 1)].push_back(k < 600 ? registered : registered + 0.3f + float(rng.gaussian(0.1)));
+  }
+  overlap(s, 0, 1, 1000, 0.6 * 70 + 0.4 * 70 * 1.35, 130);  // the means carry the floor's bias
+  const CameraGains g = solve_gains(s);
+  EXPECT_NEAR(g.at(0, 0) * 70 / (g.at(1, 0) * 130), 1.0, 0.03);
+  // Without the ratios, the means alone are 14 % off.
+  s.log_ratio.clear();
+  const CameraGains biased = solve_gains(s);
+  EXPECT_GT(std::abs(biased.at(0, 0) * 70 / (biased.at(1, 0) * 130) - 1.0), 0.08);
+}
+
 TEST(SolveGains, AChainOfOverlapsIsSolvedJointly) {
   // 0 overlaps 1, 1 overlaps 2: camera 2 is corrected through camera 1.
   OverlapStats s = stats(3);
