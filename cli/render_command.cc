@@ -17,6 +17,7 @@
 #include "cli/args.h"
 #include "cli/rig_args.h"
 #include "core/io/yaml_reader.h"
+#include "core/gain/gain_compensator.h"
 #include "core/map/apply.h"
 #include "core/map/fusion_map.h"
 #include "core/rig/rig.h"
@@ -251,7 +252,8 @@ void render_and_write(const PreparedView& p, const std::vector<cv::Mat>& images,
                       const std::string& path) {
   cv::Mat result;
   const auto t0 = std::chrono::steady_clock::now();
-  apply_map(p.map, images, result, channels);
+  GainCompensator gains;  // one image set: its own estimate, nothing to smooth
+  apply_map(p.map, images, result, channels, gains.update(p.map, images, channels));
   const double apply_ms = ms_since(t0);
   if (const fs::path folder = fs::path(path).parent_path(); !folder.empty()) fs::create_directories(folder);
   if (!cv::imwrite(path, result)) throw std::runtime_error("cannot write '" + path + "'");

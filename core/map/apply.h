@@ -5,6 +5,7 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include "core/gain/camera_gains.h"
 #include "core/map/fusion_map.h"
 
 namespace omniview {
@@ -16,5 +17,11 @@ namespace omniview {
 // Throws std::invalid_argument naming the camera for a missing, wrong-size or wrong-type
 // image. Runs on OpenCV's thread pool.
 void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat& out, int out_channels);
+
+// The same with each camera's samples scaled by its gains (per output channel; see
+// core/gain). Empty gains: as above. Throws std::invalid_argument if non-empty gains do not
+// have one gain per camera and output channel.
+void apply_map(const FusionMap& map, const std::vector<cv::Mat>& images, cv::Mat& out, int out_channels,
+               const CameraGains& gains);
 
 }  // namespace omniview

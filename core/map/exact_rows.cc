@@ -1,10 +1,39 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/map/map_kernels.h"
 #include "core/map/multiversion.h"
 
 namespace omniview::map_internal {
+namespace {
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// How much narrower the blend band between cameras a and b gets at pixel i of the row in
+// `s`: the two copies of an object at infinity (or at half the surface's distance) lie
+// about the baseline's part across the line of sight apart on the surface, which divided by
+// the surface's spacing between neighbouring view pixels is their distance in the view.
+float band_narrowing(const CameraSetup& a, const CameraSetup& b, const RowScratch& s, int i, int w) {
+  const int j = i + 1 < w ? i + 1 : i - 1;
+  if (j < 0 || !s.valid[i] || !s.valid[j]) return 1;
+  const float p[3] = {s.x[i], s.y[i], s.z[i]};
+  const float pitch = std::hypot(s.x[j] - p[0], s.y[j] - p[1], s.z[j] - p[2]);
+  float d[3], base[3];
+  for (int k = 0; k < 3; ++k) {
+    d[k] = p[k] - 0.5f * (a.centre_view[k] + b.centre_view[k]);
+    base[k] = a.centre_view[k] - b.centre_view[k];
+  }
+  const float norm = std::hypot(d[0], d[1], d[2]);
+  if (!(pitch > 0) || !(norm > 0)) return 1;
+  const float along = (base[0] * d[0] + base[1] * d[1] + base[2] * d[2]) / norm;
+  const float base2 = base[0] * base[0] + base[1] * base[1] + base[2] * base[2];
+  const float across = std::sqrt(std::max(0.0f, base2 - along * along));
+  const float ghost_px = across / pitch;
+  return std::clamp(ghost_px / kGhostTolerancePx, 1.0f, kMaxBandNarrowing);
+}
+
+}  // namespace
 
 // One band of output rows. Compiled twice on x86-64 (baseline SSE2 and x86-64-v3 with
 // AVX2/FMA) and picked at run time, so robots with newer CPUs get 8-wide SIMD while the
@@ -20,8 +49,9 @@ void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, 
     view.row_points(row, s.x.data(), s.y.data(), s.z.data(), s.valid.data());
     MapEntry* primary = &map.primary[static_cast<size_t>(row) * w];
     MapEntry* secondary = blend ? &map.secondary[static_cast<size_t>(row) * w] : nullptr;
-    std::fill(best.begin(), best.end(), blend ? 0.0f : kInvalid);
-    std::fill(second.begin(), second.end(), 0.0f);
+    // Blend: log weights, -infinity for none.
+    std::fill(best.begin(), best.end(), blend ? -kInfinity : kInvalid);
+    std::fill(second.begin(), second.end(), -kInfinity);
     std::fill(rest.begin(), rest.end(), kNoRest);
     for (size_t ci = 0; ci < setups.size(); ++ci) {
       const CameraSetup& c = setups[ci];
@@ -41,8 +71,10 @@ void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, 
       }
       for (int i = 0; i < w; ++i) {
         if (s.score[i] == kInvalid) continue;
-        const float weight = c.feather.at<float>(static_cast<int>(s.v[i] + 0.5f), static_cast<int>(s.u[i] + 0.5f));
-        if (weight <= 0) continue;
+        const float feather = c.feather.at<float>(static_cast<int>(s.v[i] + 0.5f), static_cast<int>(s.u[i] + 0.5f));
+        if (feather <= 0) continue;
+        // In the log domain: the centre term's factors span many orders of magnitude.
+        const float weight = std::log(feather) - c.centre_falloff * std::sqrt(s.score[i]);
         uint32_t e_rest;
         const uint32_t e_offset = encode(c.limits, s.u[i], s.v[i], static_cast<uint32_t>(ci), e_rest);
         const MapEntry e = make_entry(e_offset, e_rest);
@@ -63,10 +95,15 @@ void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, 
     }
     uint16_t* pw = &map.primary_weight[static_cast<size_t>(row) * w];
     for (int i = 0; i < w; ++i) {
-      const float total = best[i] + second[i];
-      pw[i] = secondary[i].cam == kNoCamera || total <= 0
-                  ? 256
-                  : static_cast<uint16_t>(std::lround(256.0f * best[i] / total));
+      if (secondary[i].cam == kNoCamera) {
+        pw[i] = 256;
+        continue;
+      }
+      // The primary's share, 1 / (1 + w2 / w1), in [0.5, 1], then narrowed by parallax.
+      float share = 1.0f / (1.0f + std::exp(second[i] - best[i]));
+      share = std::min(1.0f, 0.5f + (share - 0.5f) * band_narrowing(setups[primary[i].cam], setups[secondary[i].cam],
+                                                                     s, i, w));
+      pw[i] = static_cast<uint16_t>(std::lround(256.0f * share));
     }
   }
 }

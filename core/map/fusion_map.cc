@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/gain/overlap_samples.h"
 #include "core/map/footprint.h"
 #include "core/map/map_kernels.h"
 #include "core/map/usable_region.h"
@@ -41,7 +42,17 @@ CameraSetup make_setup(const Rig& rig, size_t index, const Pose& T_frame_view,
   s.centre_v = s.max_v / 2;
   s.inv_w = 1.0f / static_cast<float>(cam.width);
   s.inv_h = 1.0f / static_cast<float>(cam.height);
-  if (blend) s.feather = feather_weights(cam, feather_px);
+  if (blend) {
+    s.feather = feather_weights(cam, feather_px);
+    const Eigen::Vector3d c = T_cam_view.inverse().translation();
+    for (int r = 0; r < 3; ++r) s.centre_view[r] = static_cast<float>(c(r));
+    // sqrt(score) * width is (about) the distance from the image centre in pixels: a pixel
+    // feather_px / 2 further out than the other camera's loses a factor e in weight, so in
+    // a wide overlap the blend band is about feather_px wide around the line where both
+    // cameras are equally far off centre (the paper's nearest-centre seam, where their
+    // distortion and vignetting agree best), rather than a 50/50 mix across all of it.
+    s.centre_falloff = static_cast<float>(2.0 * cam.width / feather_px);
+  }
   return s;
 }
 
@@ -136,6 +147,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
   map.camera_used.resize(cameras.size());
   for (size_t c = 0; c < cameras.size(); ++c) map.camera_used[c] = used[c].load();
   if (sampling == Sampling::kFootprint) assign_footprint_levels(map);
+  if (blend && spec.gain_compensation) map.gain_samples = choose_overlap_samples(map);
   return map;
 }
 

@@ -58,8 +58,13 @@ struct FusionMap {
   // heaviest one when blending).
   MapEntries primary;
   // Blend only: a second camera and the primary's weight out of 256 (256: primary alone).
+  // The second camera is kept wherever it sees the pixel, also where the seam gives it no
+  // weight: gain compensation compares the two there.
   MapEntries secondary;
   std::vector<uint16_t> primary_weight;
+  // Blend with gain compensation: the output pixels (row-major indices) where gain
+  // estimation compares the primary and secondary cameras (core/gain/overlap_samples.h).
+  std::vector<uint32_t> gain_samples;
   // Size of each rig camera's image, as calibrated (apply() checks inputs against it).
   std::vector<cv::Size> camera_sizes;
   std::vector<std::string> camera_names;

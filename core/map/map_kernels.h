@@ -30,7 +30,17 @@ struct CameraSetup {
   SampleLimits limits;
   float centre_u = 0, centre_v = 0, inv_w = 0, inv_h = 0;
   cv::Mat feather;  // blend only: CV_32F weight in [0, 1] per camera pixel
+  // Blend only: the camera's centre in the view frame (for parallax), and how fast its
+  // weight falls with distance from the image centre (see build_rows_exact).
+  float centre_view[3] = {0, 0, 0};
+  float centre_falloff = 0;  // per unit of sqrt(score)
 };
+
+// Blend seams: doubled lines come from blending two cameras that disagree. Where the two
+// copies of an object off the surface would lie more than this many view pixels apart,
+// the blend band narrows in proportion (a cut of a few pixels reads better than a ghost).
+inline constexpr float kGhostTolerancePx = 2;
+inline constexpr float kMaxBandNarrowing = 32;
 
 struct RowScratch {
   explicit RowScratch(int w) : x(w), y(w), z(w), u(w), v(w), score(w), valid(w) {}

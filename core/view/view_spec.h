@@ -54,6 +54,9 @@ struct ViewSpec {
 
   Fusion fusion = Fusion::kNearestCentre;
   double feather_px = 24;      // blend: distance from a camera's usable border at full weight
+  // blend: even out the cameras' exposures with per-camera gains measured where they overlap
+  // (core/gain). Nearest-centre views have no overlap to measure and ignore it.
+  bool gain_compensation = true;
 
   // The robot drawn into the view (perspective and birdseye: pinhole views) where the
   // daemon has a robot model for the view's source; opacity in [0, 1].

@@ -52,7 +52,8 @@ void reject_repeated_names(const YamlReader& r, const YAML::Node& list, const st
 ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string& path) {
   r.expect_keys(n, path, {"name", "type", "width", "height", "frame", "pose", "hfov_deg", "distance", "height_m",
                           "ground_z", "radius", "vfov_deg", "azimuth_span_deg", "lat_min_deg", "lat_max_deg",
-                          "fov_deg", "fusion", "feather_px", "source", "overlay", "overlay_opacity"});
+                          "fov_deg", "fusion", "feather_px", "gain_compensation", "source", "overlay",
+                          "overlay_opacity"});
   const auto key = [&](const char* k) { return path.empty() ? std::string(k) : path + "." + k; };
   ViewSpec s = default_view_spec([&] {
     const YAML::Node t = r.required(n, "type", path);
@@ -91,6 +92,7 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
     if (n[k]) *field = r.number(n[k], key(k));
   }
   if (n["overlay"]) s.overlay = r.boolean(n["overlay"], key("overlay"));
+  if (n["gain_compensation"]) s.gain_compensation = r.boolean(n["gain_compensation"], key("gain_compensation"));
   if (n["fusion"]) {
     try {
       s.fusion = fusion_from_string(r.text(n["fusion"], key("fusion")), "");
@@ -183,6 +185,7 @@ YAML::Node view_to_yaml(const ViewSpec& s) {
   }
   n["fusion"] = to_string(s.fusion);
   n["feather_px"] = number(s.feather_px);
+  n["gain_compensation"] = s.gain_compensation;
   if (s.type == ViewType::kPerspective || s.type == ViewType::kBirdseye) {
     n["overlay"] = s.overlay;
     n["overlay_opacity"] = number(s.overlay_opacity);

@@ -2,7 +2,8 @@
 // share. One view per file, or a list under `views:`. Keys (all but `type` optional):
 //   name, type, source, width, height, frame, pose: {xyz: [x, y, z], ypr_deg: [yaw, pitch, roll]},
 //   hfov_deg, distance, height_m, ground_z, radius, vfov_deg, azimuth_span_deg,
-//   lat_min_deg, lat_max_deg, fov_deg, fusion (nearest | blend), feather_px
+//   lat_min_deg, lat_max_deg, fov_deg, fusion (nearest | blend), feather_px,
+//   gain_compensation (true | false; blend views: even out the cameras' exposures)
 #pragma once
 
 #include <string>

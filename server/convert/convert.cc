@@ -105,6 +105,7 @@ v1::ViewSpec to_proto(const ViewSpec& s) {
   p.set_fusion(to_proto(s.fusion));
   p.set_feather_px(s.feather_px);
   p.set_overlay(s.overlay);
+  p.set_gain_compensation(s.gain_compensation);
   p.set_overlay_opacity(s.overlay_opacity);
   return p;
 }
@@ -173,6 +174,7 @@ void apply_patch(const v1::ViewSpec& p, ViewSpec& s) {
   }
   if (p.has_fusion()) s.fusion = from_proto(p.fusion(), what);
   if (p.has_overlay()) s.overlay = p.overlay();
+  if (p.has_gain_compensation()) s.gain_compensation = p.gain_compensation();
   reject_inapplicable_changes(p, before, s);
 }
 

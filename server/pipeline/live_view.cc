@@ -42,6 +42,11 @@ void LiveView::close_all(grpc::StatusCode code, const std::string& reason) {
   for (const auto& s : subscribers()) s->close(code, reason);
 }
 
+CameraGains LiveView::update_gains(const FusionMap& map, const std::vector<cv::Mat>& images, int channels) {
+  std::lock_guard lock(gains_mutex_);
+  return gains_.update(map, images, channels);
+}
+
 void LiveView::record_map_build(double ms) {
   std::lock_guard lock(mutex_);
   ++stats_.map_rebuilds;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/gain/gain_compensator.h"
 #include "core/map/fusion_map.h"
 #include "core/rig/rig.h"
 #include "core/view/view.h"
@@ -68,6 +69,11 @@ class LiveView {
   // revisions, so a robot that did not move is not drawn again.
   ViewOverlay& overlay(const std::shared_ptr<const RobotModelSetup>& setup);
 
+  // The gains to render `images` with (core/gain): estimated from them over the map's
+  // overlap and smoothed over this view's frames, across revisions (exposure belongs to the
+  // cameras, not to the view's pose). Empty where the map has no overlap samples.
+  CameraGains update_gains(const FusionMap& map, const std::vector<cv::Mat>& images, int channels);
+
   void record_map_build(double ms);
   void record_frame(double latency_ms, std::chrono::steady_clock::time_point now);
   ViewStats stats() const;
@@ -79,6 +85,10 @@ class LiveView {
   std::vector<std::shared_ptr<Subscriber>> subscribers_;
   ViewStats stats_;
   std::unique_ptr<ViewOverlay> overlay_;
+  // Its own lock: only the render thread takes it, almost always uncontended (a view moved
+  // to another source could briefly be rendered by two).
+  std::mutex gains_mutex_;
+  GainCompensator gains_;
 };
 
 }  // namespace omniview

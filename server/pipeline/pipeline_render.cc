@@ -101,7 +101,7 @@ void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet
   }
   auto rendered = std::make_shared<RenderedFrame>();
   try {
-    apply_map(map, frames.images, rendered->image, channels);
+    apply_map(map, frames.images, rendered->image, channels, view->update_gains(map, frames.images, channels));
   } catch (const std::exception& e) {
     // Images that do not fit the map (a rig change in flight): skip until the rebuild.
     request_rebuild(state->spec.name);

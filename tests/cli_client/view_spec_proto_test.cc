@@ -19,7 +19,7 @@ TEST(Zoom, OneIsNinetyDegrees) {
 TEST(SetFlags, ScalarsEnumsAndAliases) {
   v1::ViewSpec spec;
   for (const char* s : {"name=front", "type=birdseye", "width=640", "height= 480", "pan=12.5", "tilt=-3", "hfov=70",
-                        "fusion=blend", "feather_px=10", "source=robot", "frame=base_link"}) {
+                        "fusion=blend", "feather_px=10", "source=robot", "frame=base_link", "gain_compensation=off"}) {
     apply_setting(s, spec);
   }
   EXPECT_EQ(spec.name(), "front");
@@ -31,6 +31,8 @@ TEST(SetFlags, ScalarsEnumsAndAliases) {
   EXPECT_DOUBLE_EQ(spec.hfov_deg(), 70);
   EXPECT_EQ(spec.fusion(), v1::BLEND);
   EXPECT_DOUBLE_EQ(spec.feather_px(), 10);
+  EXPECT_TRUE(spec.has_gain_compensation());
+  EXPECT_FALSE(spec.gain_compensation());
   EXPECT_EQ(spec.source(), "robot");
   EXPECT_EQ(spec.frame(), "base_link");
   // Only what was set is set.

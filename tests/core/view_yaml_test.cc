@@ -55,5 +55,15 @@ TEST(ViewYaml, RepeatedNamesNameBothViews) {
                 "a view without 'name' is called 'view'"});
 }
 
+TEST(ViewYaml, GainCompensationIsOnByDefaultAndCanBeTurnedOff) {
+  const auto on = parse_views(YamlReader::from_string("type: perspective\n", "on.yaml"));
+  ASSERT_EQ(on.size(), 1u);
+  EXPECT_TRUE(on[0].gain_compensation);
+  const auto off = parse_views(YamlReader::from_string("type: perspective\ngain_compensation: false\n", "off.yaml"));
+  EXPECT_FALSE(off[0].gain_compensation);
+  EXPECT_FALSE(view_to_yaml(off[0])["gain_compensation"].as<bool>());  // written back as read
+  expect_error("gain.yaml", "type: perspective\ngain_compensation: sometimes\n", {"gain.yaml:2: gain_compensation:"});
+}
+
 }  // namespace
 }  // namespace omniview

@@ -68,6 +68,7 @@ TEST_F(ViewsApi, CreateGetListUpdateDelete) {
   EXPECT_NEAR(created.intrinsics(0), 160.0, 1e-9);  // f = (W/2) / tan(hfov/2)
   EXPECT_NEAR(created.intrinsics(2), 159.5, 1e-9);  // principal point at the centre
   EXPECT_NE(created.yaml().find("type: perspective"), std::string::npos);
+  EXPECT_TRUE(created.spec().gain_compensation());  // on by default, as in the YAML schema
 
   v1::View got;
   v1::GetViewRequest get;
@@ -80,10 +81,13 @@ TEST_F(ViewsApi, CreateGetListUpdateDelete) {
   v1::UpdateViewRequest update;
   update.set_name("front");
   update.mutable_set()->set_hfov_deg(60);
+  update.mutable_set()->set_gain_compensation(false);
   update.mutable_delta()->set_yaw_deg(15);
   v1::View updated;
   ASSERT_TRUE(stub_->UpdateView(make_context().get(), update, &updated).ok());
   EXPECT_EQ(updated.revision(), 2u);
+  EXPECT_FALSE(updated.spec().gain_compensation());
+  EXPECT_NE(updated.yaml().find("gain_compensation: false"), std::string::npos);
   EXPECT_DOUBLE_EQ(updated.spec().hfov_deg(), 60);
   EXPECT_DOUBLE_EQ(updated.spec().yaw_deg(), 15);
   EXPECT_EQ(updated.spec().width(), 320);  // untouched fields stay

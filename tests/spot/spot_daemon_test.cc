@@ -304,6 +304,11 @@ TEST(SpotSource, DefaultViewsStreamAndMatchTheMocksScene) {
   spec->set_frame("body");
   spec->set_hfov_deg(110);
   spec->set_distance(spot_mock::kTestWallX);
+  // Absolute intensities against the scene: no gains. The view's plane cuts the floor below
+  // the wall, where the two front cameras see different patches, and the gains measured
+  // there come out 1-2 % off 1 (42.6 dB instead of 48.6): brightness, not the geometry
+  // this checks.
+  spec->set_gain_compensation(false);
   v1::View created;
   ASSERT_TRUE(stub->CreateView(make_context().get(), create, &created).ok());
   v1::Frame wall;
