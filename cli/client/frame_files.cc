@@ -84,6 +84,7 @@ v1::StreamFramesRequest stream_request(const Args& args, const std::string& view
     request.set_quality(quality);
   }
   request.set_gray(args.has("gray") || args.has("grey"));
+  request.set_stale_frames(true);  // every command says when the picture is not live (StaleNotice)
   return request;
 }
 

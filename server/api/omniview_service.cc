@@ -170,7 +170,7 @@ grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::S
     }
     StreamSlot slot(*this, ctx->peer());
     if (auto s = slot.acquire(); !s.ok()) return s;
-    auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, rate);
+    auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, rate, req->stale_frames());
     // Unsubscribe however this ends (client gone, view deleted, shutdown, exception).
     struct Unsubscribe {
       Pipeline& p;

@@ -8,7 +8,13 @@ namespace omniview {
 
 void LiveView::add_subscriber(std::shared_ptr<Subscriber> s) {
   std::lock_guard lock(mutex_);
+  if (subscribers_.empty()) watched_since_ = std::chrono::steady_clock::now();
   subscribers_.push_back(std::move(s));
+}
+
+std::chrono::steady_clock::time_point LiveView::watched_since() const {
+  std::lock_guard lock(mutex_);
+  return watched_since_;
 }
 
 void LiveView::remove_subscriber(const Subscriber* s) {

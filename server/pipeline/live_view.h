@@ -63,6 +63,9 @@ class LiveView {
   void remove_subscriber(const Subscriber* s);
   std::vector<std::shared_ptr<Subscriber>> subscribers() const;
   size_t subscriber_count() const;
+  // When the view last went from no subscriber to one: a source asked for images only from
+  // then on (Spot pulls nothing while nobody watches) is not stale before it had time.
+  std::chrono::steady_clock::time_point watched_since() const;
   void close_all(grpc::StatusCode code, const std::string& reason);
 
   // The view's robot layer (views with overlay on), made on first use and kept across
@@ -83,6 +86,7 @@ class LiveView {
   std::mutex change_mutex_;
   std::shared_ptr<const ViewState> state_;
   std::vector<std::shared_ptr<Subscriber>> subscribers_;
+  std::chrono::steady_clock::time_point watched_since_{};
   ViewStats stats_;
   std::unique_ptr<ViewOverlay> overlay_;
   // Its own lock: only the render thread takes it, almost always uncontended (a view moved

@@ -71,8 +71,10 @@ class Pipeline {
   v1::PixelToRayResponse pixel_to_ray(const std::string& view, double u, double v) const;
   v1::PointToPixelResponse point_to_pixel(const std::string& view, const Vec3& point, const std::string& frame) const;
 
+  // `stale_frames`: the client wants its view's last picture again, marked, while the
+  // source is silent (staleness.h).
   std::shared_ptr<Subscriber> subscribe(const std::string& view, const std::string& peer, EncodingKey key,
-                                        double max_rate_hz);
+                                        double max_rate_hz, bool stale_frames = false);
   void unsubscribe(const std::string& view, const Subscriber* subscriber);
   std::shared_ptr<FrameSetTap> tap(const std::string& source);
   void untap(const std::string& source, const FrameSetTap* tap);

@@ -61,16 +61,23 @@ void Pipeline::render_worker(SourceChannel* ch) {
 void Pipeline::resend_stale_views(SourceChannel& ch) {
   const auto latest = ch.latest();
   if (!latest) return;
-  const Staleness staleness = judge_staleness(ch.source().name(), ch.stats(), ch.source().health(), Clock::now());
-  if (!staleness.stale) return;
   std::vector<std::shared_ptr<LiveView>> views;
   {
     std::lock_guard lock(views_mutex_);
     for (const auto& [_, v] : views_) {
-      if (v->state()->spec.source == ch.source().name() && v->subscriber_count() > 0) views.push_back(v);
+      if (v->state()->spec.source != ch.source().name()) continue;
+      const auto subscribers = v->subscribers();
+      if (std::any_of(subscribers.begin(), subscribers.end(), [](const auto& s) { return s->stale_frames(); })) {
+        views.push_back(v);
+      }
     }
   }
-  for (const auto& v : views) render_view(v, *latest, &staleness);
+  const SourceStats stats = ch.stats();
+  const SourceHealth health = ch.source().health();
+  for (const auto& v : views) {
+    const Staleness staleness = judge_staleness(ch.source().name(), stats, health, v->watched_since(), Clock::now());
+    if (staleness.stale) render_view(v, *latest, &staleness);
+  }
 }
 
 void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet& frames,
@@ -80,7 +87,7 @@ void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet
   const auto now = Clock::now();
   std::map<EncodingKey, std::vector<std::shared_ptr<Subscriber>>> groups;
   for (auto& s : view->subscribers()) {
-    if (s->due(now)) groups[s->key()].push_back(s);
+    if (s->due(now) && (!staleness || s->stale_frames())) groups[s->key()].push_back(s);
   }
   // An encoding that is behind (a PNG of a big view) still has a frame waiting: it gets
   // that one, and this frame set costs it nothing, not even the map's apply.

@@ -9,10 +9,10 @@
 namespace omniview {
 
 std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const std::string& peer, EncodingKey key,
-                                                double max_rate_hz) {
+                                                double max_rate_hz, bool stale_frames) {
   if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
   auto view = find_view(name);
-  auto s = std::make_shared<Subscriber>(peer, key, max_rate_hz);
+  auto s = std::make_shared<Subscriber>(peer, key, max_rate_hz, stale_frames);
   view->add_subscriber(s);
   update_wanted_cameras(view->state()->spec.source);
   return s;

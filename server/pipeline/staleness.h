@@ -21,9 +21,12 @@ struct Staleness {
 inline constexpr std::chrono::milliseconds kStaleResendInterval{1000};
 
 // Stale when nothing arrived for the longer of 1.5 s and four of the source's usual frame
-// intervals (a 0.5 Hz source is not stale 2.1 s after its last frame set). A source that
-// has delivered nothing yet is not stale: there is nothing to show again.
+// intervals (a 0.5 Hz source is not stale 2.1 s after its last frame set), counted from its
+// last frame set or from `watched_since`, whichever is later: a source that pulls images
+// only while somebody watches (Spot) had no reason to deliver before. A source that has
+// delivered nothing yet is not stale: there is nothing to show again.
 Staleness judge_staleness(const std::string& source, const SourceStats& stats, const SourceHealth& health,
+                          std::chrono::steady_clock::time_point watched_since,
                           std::chrono::steady_clock::time_point now);
 
 }  // namespace omniview

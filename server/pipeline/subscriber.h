@@ -34,11 +34,13 @@ using SharedFrame = std::shared_ptr<const v1::Frame>;
 
 class Subscriber {
  public:
-  Subscriber(std::string peer, EncodingKey key, double max_rate_hz)
-      : peer_(std::move(peer)), key_(key), max_rate_hz_(max_rate_hz) {}
+  Subscriber(std::string peer, EncodingKey key, double max_rate_hz, bool stale_frames = false)
+      : peer_(std::move(peer)), key_(key), max_rate_hz_(max_rate_hz), stale_frames_(stale_frames) {}
 
   const std::string& peer() const { return peer_; }
   const EncodingKey& key() const { return key_; }
+  // The client asked for the last picture again, marked stale, while the source is silent.
+  bool stale_frames() const { return stale_frames_; }
 
   // Pipeline side. True if the subscriber wants a frame now (its rate allows it).
   bool due(std::chrono::steady_clock::time_point now) const;
@@ -66,6 +68,7 @@ class Subscriber {
   const std::string peer_;
   const EncodingKey key_;
   const double max_rate_hz_;
+  const bool stale_frames_;
 
   mutable std::mutex mutex_;
   std::condition_variable ready_;

@@ -225,23 +225,26 @@ TEST(Staleness, AfterTheLongerOfOneAndAHalfSecondsAndFourFrameIntervals) {
   SourceStats stats;
   SourceHealth health;
   health.connected = true;
-  EXPECT_FALSE(judge_staleness("cam", stats, health, now).stale) << "nothing delivered yet: nothing to re-send";
+  EXPECT_FALSE(judge_staleness("cam", stats, health, {}, now).stale) << "nothing delivered yet: nothing to re-send";
   stats.last_arrival = now - 1200ms;
   stats.mean_interval_s = 1.0 / 30;
-  EXPECT_FALSE(judge_staleness("cam", stats, health, now).stale);
+  EXPECT_FALSE(judge_staleness("cam", stats, health, {}, now).stale);
   stats.last_arrival = now - 1600ms;
-  const Staleness s = judge_staleness("cam", stats, health, now);
+  const Staleness s = judge_staleness("cam", stats, health, {}, now);
   EXPECT_TRUE(s.stale);
   EXPECT_EQ(s.reason, "no new images from source 'cam' for 1.6 s");
   stats.mean_interval_s = 2;  // a 0.5 Hz source
-  EXPECT_FALSE(judge_staleness("cam", stats, health, now).stale);
+  EXPECT_FALSE(judge_staleness("cam", stats, health, {}, now).stale);
   stats.last_arrival = now - 8100ms;
-  EXPECT_TRUE(judge_staleness("cam", stats, health, now).stale);
+  EXPECT_TRUE(judge_staleness("cam", stats, health, {}, now).stale);
   health.connected = false;
   health.message = "camera unplugged; looking for it every second";
-  EXPECT_EQ(judge_staleness("cam", stats, health, now).reason,
+  EXPECT_EQ(judge_staleness("cam", stats, health, {}, now).reason,
             "no new images from source 'cam' for 8.1 s: it is not connected (camera unplugged; looking for it every "
             "second)");
+  // A view watched only since a moment ago: its source (pulling only for watchers) gets time.
+  EXPECT_FALSE(judge_staleness("cam", stats, health, now - 500ms, now).stale);
+  EXPECT_TRUE(judge_staleness("cam", stats, health, now - 9s, now).stale);
 }
 
 }  // namespace

@@ -192,6 +192,7 @@ class FrameReader {
     v1::StreamFramesRequest r;
     r.set_view(view);
     r.set_encoding(v1::JPEG);
+    r.set_stale_frames(true);
     reader_ = stub.StreamFrames(context_.get(), r);
     thread_ = std::thread([this] {
       v1::Frame f;
