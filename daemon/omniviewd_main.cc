@@ -1,6 +1,7 @@
 // omniviewd: serves live virtual views of a robot's cameras over gRPC.
 #include <csignal>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -125,6 +126,12 @@ int main(int argc, char** argv) {
               << (config.tokens.empty() ? ", no tokens)" : ", tokens required)") << "; views:";
     for (const auto& v : daemon.pipeline().list_views()) std::cerr << " " << v.spec().name();
     std::cerr << std::endl;
+    // Not an error (nothing saved yet), but said: a path that resolves elsewhere than the
+    // user thinks (it is relative to the config's folder) would otherwise lose views silently.
+    if (std::error_code ec; !config.views_file.empty() && !std::filesystem::exists(config.views_file, ec)) {
+      std::cerr << "omniviewd: views_file '" << config.views_file
+                << "' does not exist (yet): serving the config's views; 'omniview views save' writes it" << std::endl;
+    }
     if (!ready_file.empty()) {
       const std::string tmp = ready_file + ".tmp";
       std::ofstream(tmp) << daemon.address() << "\n";

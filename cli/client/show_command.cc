@@ -12,6 +12,7 @@
 #include "cli/client/client_commands.h"
 #include "cli/client/command_support.h"
 #include "cli/client/connection.h"
+#include "cli/client/display_probe.h"
 #include "cli/client/frame_files.h"
 
 namespace omniview::cli {
@@ -73,10 +74,16 @@ int show_command(const std::vector<std::string>& argv) {
   const double step = args->has("step") ? parse_positive(args->get("step"), "--step") : 5;
   auto request = stream_request(*args, args->positional()[0], v1::JPEG);
   if (request.encoding() == v1::RAW) throw UsageError("--encoding: show decodes jpg or png");
+  const std::string instead =
+      "over ssh use 'ssh -X', or pipe the view into a player: omniview stream " + request.view() + " -o - | ffplay -f mjpeg -";
   if (!has_display()) {
-    throw std::runtime_error(
-        "no display to open a window on (DISPLAY and WAYLAND_DISPLAY are unset): over ssh use 'ssh -X', or "
-        "pipe the view into a player: omniview stream " + request.view() + " -o - | ffplay -f mjpeg -");
+    throw std::runtime_error("no display to open a window on (DISPLAY and WAYLAND_DISPLAY are unset): " + instead);
+  }
+  // HighGUI aborts the whole process on a display it cannot reach: ask it first.
+  if (const char* display = std::getenv("DISPLAY"); display && *display) {
+    if (const std::string why = probe_x_display(display); !why.empty()) {
+      throw std::runtime_error("no display to open a window on (" + why + "): " + instead);
+    }
   }
   const std::string title = "omniview: " + request.view();
   try {

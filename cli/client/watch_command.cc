@@ -91,7 +91,12 @@ int watch_command(const std::vector<std::string>& argv) {
   StaleNotice stale(request.view());
   while (reader->Read(&frame)) {
     stall.frame_arrived();
-    if (stale.check(frame)) continue;  // the last picture again: not a frame
+    if (stale.check(frame)) {  // the last picture again: not a frame, but a line a second
+      print(request.view() + "  STALE: " + frame.stale_reason());
+      window.clear();
+      window_start = Clock::now();
+      continue;
+    }
     const double arrival_s = now_seconds();
     if (frames_total > 0 && frame.sequence() > last_sequence + 1) {
       window.skipped += frame.sequence() - last_sequence - 1;

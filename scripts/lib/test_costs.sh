@@ -14,7 +14,11 @@ seed_test_costs() {
 # save_test_costs TREE: rewrites tests/slow_tests.txt from TREE's measured costs (run it
 # after a release run when tests were added or got slower).
 save_test_costs() {
-  awk 'NF == 3 && $3 > 3 { cost[$1] = $3 } $1 == "---" { exit }
+  # Only tests the tree still has (CTest keeps the costs of removed ones).
+  ctest --test-dir "$1" -N | sed -n 's/^ *Test *#[0-9]*: //p' > "$1/test-names.txt"
+  awk 'FNR == NR { exists[$0] = 1; next } $1 == "---" { exit }
+       NF == 3 && $3 > 3 && ($1 in exists) { cost[$1] = $3 }
        END { for (name in cost) printf "%s 1 %.1f\n", name, cost[name] }' \
-    "$1/Testing/Temporary/CTestCostData.txt" | sort -k3 -nr > tests/slow_tests.txt
+    "$1/test-names.txt" "$1/Testing/Temporary/CTestCostData.txt" | sort -k3 -nr > tests/slow_tests.txt
+  rm -f "$1/test-names.txt"
 }

@@ -101,6 +101,16 @@ TEST_F(Operator, ShowWithoutADisplaySaysWhatToDoInstead) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(has(r.output, "no display to open a window on")) << r.output;
   EXPECT_TRUE(has(r.output, "omniview stream front -o - | ffplay -f mjpeg -")) << r.output;
+  // A display that is set but gone (a stale ssh -X forwarding): the same, not an abort.
+  const auto gone = run_process("env -u WAYLAND_DISPLAY DISPLAY=:987 " + std::string(OMNIVIEW_CLI) + " show front --server " +
+                                daemon_.address());
+  EXPECT_EQ(gone.exit_code, 1) << gone.output;
+  EXPECT_TRUE(has(gone.output, "no display to open a window on (DISPLAY ':987': nothing listens on /tmp/.X11-unix/X987)"))
+      << gone.output;
+  const auto remote = run_process("env -u WAYLAND_DISPLAY DISPLAY=127.0.0.1:987.0 " + std::string(OMNIVIEW_CLI) +
+                                  " show front --server " + daemon_.address());
+  EXPECT_EQ(remote.exit_code, 1) << remote.output;
+  EXPECT_TRUE(has(remote.output, "nothing answers on 127.0.0.1:6987")) << remote.output;
 }
 
 // `omniview cameras` gives each camera's field of view in degrees, as far as its lens sees.
@@ -412,6 +422,9 @@ TEST(OperatorViews, SavedViewsSurviveARestart) {
   std::map<std::string, std::string> before;
   {
     DaemonProcess daemon(dir, config);  // no saved_views.yaml yet: just the config's views
+    // ... which the start-up log says, naming where it looked.
+    EXPECT_TRUE(has(daemon.log(), "views_file '" + (dir.path() / "saved_views.yaml").string() + "' does not exist (yet)"))
+        << daemon.log();
     const std::string cli = std::string(OMNIVIEW_CLI) + " --server " + daemon.address() + " ";
     auto r = run_process(cli + "views create --set name=ptz --set type=perspective --set width=200 --set height=100"
                                " --set yaw=45 --set tilt=10");
@@ -425,6 +438,7 @@ TEST(OperatorViews, SavedViewsSurviveARestart) {
     EXPECT_EQ(daemon.stop(), 0);
   }
   DaemonProcess restarted(dir, config);
+  EXPECT_FALSE(has(restarted.log(), "does not exist")) << restarted.log();
   auto stub = make_stub(restarted.address());
   EXPECT_EQ(views_yaml(*stub), before);
   v1::GetViewRequest get;
