@@ -16,7 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kHelp = R"(usage: omniview colorize --rig RIG.yaml --image CAM=PATH ... --cloud IN.ply|IN.pcd -o OUT.ply
+constexpr const char* kColorizeHelp = R"(usage: omniview colorize --rig RIG.yaml --image CAM=PATH ... --cloud IN.ply|IN.pcd -o OUT.ply
                          [--cloud-frame FRAME] [--fusion nearest|blend] [--no-occlusion] [--ascii]
 
 Colours a point cloud from a calibrated rig and one image per camera: each point takes the
@@ -38,7 +38,7 @@ constexpr const char* kOwnHelp = R"(  --cloud FILE        the cloud: PLY or PCD,
   -h, --help          this help
 )";
 
-const OptionSpec kOptions{.switches = {"no-occlusion", "ascii"},
+const OptionSpec kColorizeOptions{.switches = {"no-occlusion", "ascii"},
                           .single = {"rig", "rig-frame", "rig-pose", "cloud", "cloud-frame", "fusion", "out"},
                           .repeatable = {"image"}};
 
@@ -50,9 +50,9 @@ int colorize_command(const std::vector<std::string>& argv_in) {
   for (auto& a : argv) {
     if (a == "-o") a = "--out";
   }
-  const Args args = Args::parse(argv, kOptions);
+  const Args args = Args::parse(argv, kColorizeOptions);
   if (args.help_requested()) {
-    std::cout << kHelp << kRigOptionsHelp << kOwnHelp;
+    std::cout << kColorizeHelp << kRigOptionsHelp << kOwnHelp;
     return 0;
   }
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional()[0] + "'");

@@ -29,7 +29,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kHelp = R"(usage: omniview render --rig RIG.yaml --image CAM=PATH ... --view VIEW.yaml ... --out OUT
+constexpr const char* kRenderHelp = R"(usage: omniview render --rig RIG.yaml --image CAM=PATH ... --view VIEW.yaml ... --out OUT
        omniview render --list-models | --list-view-types
 
 Computes views offline from a calibrated rig and one image per camera.
@@ -57,7 +57,7 @@ Computes views offline from a calibrated rig and one image per camera.
   -h, --help          this help
 )";
 
-const OptionSpec kOptions{.switches = {"grey", "colour", "color", "list-models", "list-view-types"},
+const OptionSpec kRenderOptions{.switches = {"grey", "colour", "color", "list-models", "list-view-types"},
                           .single = {"rig", "rig-frame", "rig-pose", "out"},
                           .repeatable = {"image", "view"}};
 
@@ -268,9 +268,9 @@ void render_and_write(const PreparedView& p, const std::vector<cv::Mat>& images,
 int render_command(const std::vector<std::string>& argv) {
   // We report missing and unreadable files ourselves; OpenCV's WARN lines would only repeat them.
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
-  const Args args = Args::parse(argv, kOptions);
+  const Args args = Args::parse(argv, kRenderOptions);
   if (args.help_requested()) {
-    std::cout << kHelp;
+    std::cout << kRenderHelp;
     return 0;
   }
   if (args.has("list-models")) list_models();

@@ -5,11 +5,13 @@
 # omniview_precompile_headers() runs once, after every target is defined, and gives each
 # C++ target the precompiled headers of the dependencies it links (directly or through
 # other targets), so no source file needs to know about it:
-# - a library with several sources compiles its own precompiled header;
-# - every other target (a test with one file, a small program) reuses the header of a host
-#   target made for its set of dependencies. GCC uses a precompiled header only when the
-#   flags match, so targets with compile options of their own (core's -O3, generated code's
-#   -w) are left out of sharing; -Winvalid-pch makes any mismatch show in the build log.
+# - every target reuses the header of a host target made for its set of dependencies, so
+#   each set is compiled once per tree (a precompiled header costs 10-20 s and 150-350 MB;
+#   there are a handful of sets, against ~70 targets);
+# - GCC uses a precompiled header only when the flags match, so a target with compile
+#   options of its own (core's -O3, generated code's -w) compiles its own when it has
+#   several sources, and goes without otherwise; -Winvalid-pch makes any mismatch show in
+#   the build log.
 # Only third-party and standard headers go in, so a change to our own headers rebuilds
 # exactly what it did before. OMNIVIEW_PCH=OFF builds without (to check that every file
 # includes what it uses).
@@ -25,7 +27,11 @@ set(_omniview_pch_gRPC::grpc++ <grpcpp/grpcpp.h>)
 set(_omniview_pch_GTest::gtest <gtest/gtest.h>)
 # Our own API's generated code: the heaviest header of the server and its tests.
 set(_omniview_pch_omniview_proto <omniview/v1/omniview.grpc.pb.h>)
-set(_omniview_pch_dependencies Eigen3::Eigen opencv_core yaml-cpp gRPC::grpc++ omniview_proto GTest::gtest)
+# Threads adds -pthread, which defines _REENTRANT: a header precompiled without it is
+# refused by a target with it, so it is part of the key (no headers of its own).
+set(_omniview_pch_Threads::Threads)
+set(_omniview_pch_dependencies Eigen3::Eigen opencv_core yaml-cpp gRPC::grpc++ omniview_proto GTest::gtest
+    Threads::Threads)
 
 # Every target name reachable from `target`'s link libraries, into `out`.
 function(_omniview_link_closure target out)
@@ -33,8 +39,10 @@ function(_omniview_link_closure target out)
   set(queue ${target})
   while(queue)
     list(POP_FRONT queue item)
-    # Generator expressions such as $<LINK_ONLY:x> hide a plain target name.
+    # Generator expressions such as $<LINK_ONLY:x> and $<LINK_LIBRARY:WHOLE_ARCHIVE,x> hide
+    # a plain target name.
     string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" item "${item}")
+    string(REGEX REPLACE "^\\$<LINK_LIBRARY:[^,]*,(.*)>$" "\\1" item "${item}")
     if(NOT TARGET ${item} OR item IN_LIST seen)
       continue()
     endif()
@@ -76,22 +84,11 @@ function(_omniview_pch_headers target headers_out key_out)
   set(${key_out} ${key} PARENT_SCOPE)
 endfunction()
 
-# The C++ targets defined in `dir` and below, into `out`.
-function(_omniview_targets_below dir out)
-  get_property(targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
-  get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
-  foreach(subdir IN LISTS subdirs)
-    _omniview_targets_below(${subdir} below)
-    list(APPEND targets ${below})
-  endforeach()
-  set(${out} ${targets} PARENT_SCOPE)
-endfunction()
-
 function(omniview_precompile_headers)
   if(NOT OMNIVIEW_PCH OR OMNIVIEW_FUZZ)
     return()
   endif()
-  _omniview_targets_below(${PROJECT_SOURCE_DIR} targets)
+  omniview_targets_below(${PROJECT_SOURCE_DIR} targets)
   foreach(target IN LISTS targets)
     get_target_property(type ${target} TYPE)
     if(NOT type MATCHES "^(STATIC_LIBRARY|SHARED_LIBRARY|OBJECT_LIBRARY|EXECUTABLE)$")
@@ -114,11 +111,11 @@ function(omniview_precompile_headers)
     if(options AND NOT "${options}" STREQUAL "${project_options}")
       set(own_options TRUE)
     endif()
-    if(source_count GREATER_EQUAL 4)
-      target_precompile_headers(${target} PRIVATE ${headers})
-    elseif(NOT own_options)
+    if(NOT own_options)
       _omniview_pch_host(${key} "${headers}" ${target} host)
       target_precompile_headers(${target} REUSE_FROM ${host})
+    elseif(source_count GREATER_EQUAL 4)
+      target_precompile_headers(${target} PRIVATE ${headers})
     else()
       continue()
     endif()

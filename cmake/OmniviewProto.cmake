@@ -46,6 +46,8 @@ function(omniview_add_proto_library target)
   add_library(${target} STATIC ${gen_srcs})
   target_include_directories(${target} SYSTEM PUBLIC ${gen_dir})
   target_link_libraries(${target} PUBLIC protobuf::libprotobuf gRPC::grpc++)
-  # Generated code is not ours to warn about.
+  # Generated code is not ours to warn about, and each file defines the same file-level
+  # names (schemas, file_default_instances): one translation unit per file.
   target_compile_options(${target} PRIVATE -w)
+  set_target_properties(${target} PROPERTIES UNITY_BUILD OFF)
 endfunction()

@@ -7,7 +7,7 @@ packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev libopencv-dev libyaml-cpp-dev
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc
-  ccache libssl-dev openssl python3 python3-grpcio python3-protobuf
+  ccache mold libssl-dev openssl python3 python3-grpcio python3-protobuf
   libgtest-dev libgmock-dev libbenchmark-dev
   liburdfdom-dev liburdfdom-headers-dev libassimp-dev libosmesa6-dev
   libturbojpeg0-dev

@@ -8,7 +8,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp = std::string(R"(usage: omniview cameras [--source NAME] [--details]
+const std::string kCamerasHelp = std::string(R"(usage: omniview cameras [--source NAME] [--details]
 
 Lists the cameras of omniviewd's sources: model, image size, field of view (degrees,
 horizontal x vertical through the image centre, as far as the lens and mask let the camera
@@ -28,7 +28,7 @@ std::string join(const google::protobuf::RepeatedField<double>& values) {
 }  // namespace
 
 int cameras_command(const std::vector<std::string>& argv) {
-  const auto args = parse_command_args(argv, {"details"}, {"source"}, kHelp);
+  const auto args = parse_command_args(argv, {"details"}, {"source"}, kCamerasHelp);
   if (!args) return 0;
   expect_positional(*args, 0, "");
   Connection connection(connection_options(*args));

@@ -14,7 +14,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp =
+const std::string kCloudHelp =
     std::string(R"(usage: omniview cloud [SOURCE] -o OUT.ply [--count N | --follow] [--frame F] [--voxel M]
                       [--crop X0,Y0,Z0,X1,Y1,Z1] [--fusion nearest|blend] [--no-occlusion]
                       [--coloured-only] [--rate HZ] [--wait S]
@@ -104,7 +104,7 @@ void save(const v1::PointCloud& message, const std::string& path, bool coloured_
 
 int cloud_command(const std::vector<std::string>& argv) {
   const auto args = parse_command_args(argv, {"follow", "no-occlusion", "coloured-only"},
-                                       {"output", "count", "frame", "voxel", "crop", "fusion", "rate", "wait"}, kHelp);
+                                       {"output", "count", "frame", "voxel", "crop", "fusion", "rate", "wait"}, kCloudHelp);
   if (!args) return 0;
   if (args->positional().size() > 1) throw UsageError("expected at most one SOURCE, got " + std::to_string(args->positional().size()));
   const std::string source = args->positional().empty() ? "" : args->positional()[0];

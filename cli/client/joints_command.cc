@@ -12,7 +12,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp = std::string(R"(usage: omniview joints [SOURCE] [NAME=VALUE ...] [--clear]
+const std::string kJointsHelp = std::string(R"(usage: omniview joints [SOURCE] [NAME=VALUE ...] [--clear]
 
 Shows the joint positions the robot overlay of SOURCE (default: the daemon's first source)
 draws, and where each comes from: urdf (nobody set it: 0), config (robot_models[].joints),
@@ -77,7 +77,7 @@ void print(const v1::JointPositions& joints) {
 }  // namespace
 
 int joints_command(const std::vector<std::string>& argv) {
-  const auto args = parse_command_args(argv, {"clear"}, {}, kHelp);
+  const auto args = parse_command_args(argv, {"clear"}, {}, kJointsHelp);
   if (!args) return 0;
   std::string source;
   v1::SetJointPositionsRequest set;

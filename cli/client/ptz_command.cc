@@ -10,7 +10,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp = std::string(
+const std::string kPtzHelp = std::string(
                               R"(usage: omniview ptz VIEW [--pan DEG] [--tilt DEG] [--roll DEG] [--zoom X | --hfov DEG]
        omniview ptz VIEW --relative [--pan DEG] [--tilt DEG] [--roll DEG] [--zoom X]
        omniview ptz VIEW [--dpan DEG] [--dtilt DEG] [--droll DEG] [--dzoom X]
@@ -73,7 +73,7 @@ v1::View get_view(Connection& connection, const std::string& name) {
 
 int ptz_command(const std::vector<std::string>& argv) {
   const auto args = parse_command_args(
-      argv, {"relative"}, {"pan", "tilt", "roll", "zoom", "hfov", "dpan", "dtilt", "droll", "dzoom"}, kHelp);
+      argv, {"relative"}, {"pan", "tilt", "roll", "zoom", "hfov", "dpan", "dtilt", "droll", "dzoom"}, kPtzHelp);
   if (!args) return 0;
   expect_positional(*args, 1, "VIEW");
   const std::string name = args->positional()[0];

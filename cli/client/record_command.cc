@@ -18,7 +18,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp = std::string(R"(usage: omniview record -o DIR [--source NAME] [--frames N | --duration S]
+const std::string kRecordHelp = std::string(R"(usage: omniview record -o DIR [--source NAME] [--frames N | --duration S]
 
 Records what a source of omniviewd delivers (every camera image with capture times and
 the rig) into DIR, a recording the 'replay' source plays back. Images are stored as the
@@ -73,7 +73,7 @@ std::chrono::system_clock::time_point to_time_point(const google::protobuf::Time
 }  // namespace
 
 int record_command(const std::vector<std::string>& argv) {
-  const auto args = parse_command_args(argv, {}, {"output", "source", "frames", "duration"}, kHelp);
+  const auto args = parse_command_args(argv, {}, {"output", "source", "frames", "duration"}, kRecordHelp);
   if (!args) return 0;
   expect_positional(*args, 0, "");
   const std::filesystem::path folder = args->required("output");

@@ -18,7 +18,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp = std::string(R"(usage: omniview show VIEW [--step DEG] [--rate HZ] [--gray] [--quality Q]
+const std::string kShowHelp = std::string(R"(usage: omniview show VIEW [--step DEG] [--rate HZ] [--gray] [--quality Q]
 
 Opens a window showing a view live. Keys (changing the view needs an operator token):
   a / d, left / right   pan left / right by --step degrees (default 5)
@@ -68,7 +68,7 @@ void draw_stale_banner(cv::Mat& image, const std::string& reason) {
 int show_command(const std::vector<std::string>& argv) {
   std::vector<std::string> flags = stream_flags();
   flags.push_back("step");
-  const auto args = parse_command_args(argv, stream_switches(), flags, kHelp);
+  const auto args = parse_command_args(argv, stream_switches(), flags, kShowHelp);
   if (!args) return 0;
   expect_positional(*args, 1, "VIEW");
   const double step = args->has("step") ? parse_positive(args->get("step"), "--step") : 5;

@@ -11,7 +11,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp =
+const std::string kSnapshotHelp =
     std::string(R"(usage: omniview snapshot VIEW -o OUT.png|OUT.jpg|OUT.raw [--gray] [--quality Q] [--wait S]
        omniview snapshot VIEW -o - [--encoding jpg|png|raw] > frame.jpg
 
@@ -31,7 +31,7 @@ as they are (rows top to bottom, 8-bit RGB or gray; the size is printed).
 }  // namespace
 
 int snapshot_command(const std::vector<std::string>& argv) {
-  const auto args = parse_command_args(argv, {"gray", "grey"}, {"output", "quality", "wait", "encoding"}, kHelp);
+  const auto args = parse_command_args(argv, {"gray", "grey"}, {"output", "quality", "wait", "encoding"}, kSnapshotHelp);
   if (!args) return 0;
   expect_positional(*args, 1, "VIEW");
   const std::string output = args->required("output");

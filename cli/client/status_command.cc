@@ -9,7 +9,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp = std::string(R"(usage: omniview status
+const std::string kStatusHelp = std::string(R"(usage: omniview status
 
 Shows omniviewd's version and uptime, its sources (connected, rate, errors, skipped frame
 sets), its views (subscribers, fps, map rebuilds, latency) and the streaming clients.
@@ -28,7 +28,7 @@ std::string uptime_text(double s) {
 }  // namespace
 
 int status_command(const std::vector<std::string>& argv) {
-  const auto args = parse_command_args(argv, {}, {}, kHelp);
+  const auto args = parse_command_args(argv, {}, {}, kStatusHelp);
   if (!args) return 0;
   expect_positional(*args, 0, "");
   Connection connection(connection_options(*args));

@@ -16,7 +16,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp =
+const std::string kStreamHelp =
     std::string(R"(usage: omniview stream VIEW --frames N -o DIR [--encoding E] [--rate HZ] [--gray]
        omniview stream VIEW -o - [--frames N] | ffplay -f mjpeg -
 
@@ -92,7 +92,7 @@ int stream_command(const std::vector<std::string>& argv) {
   flags.insert(flags.end(), {"frames", "output"});
   std::vector<std::string> switches = stream_switches();
   switches.push_back("force");
-  const auto args = parse_command_args(argv, switches, flags, kHelp);
+  const auto args = parse_command_args(argv, switches, flags, kStreamHelp);
   if (!args) return 0;
   expect_positional(*args, 1, "VIEW");
   if (args->has("output") && args->get("output") == "-") {

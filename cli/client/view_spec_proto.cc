@@ -11,14 +11,14 @@
 namespace omniview::cli {
 namespace {
 
-std::string trim(const std::string& s) {
+std::string trim_blanks(const std::string& s) {
   const auto first = s.find_first_not_of(" \t");
   if (first == std::string::npos) return "";
   return s.substr(first, s.find_last_not_of(" \t") - first + 1);
 }
 
 double parse_number(const std::string& text, const std::string& what) {
-  const std::string t = trim(text);
+  const std::string t = trim_blanks(text);
   char* end = nullptr;
   const double v = std::strtod(t.c_str(), &end);
   if (t.empty() || end != t.c_str() + t.size() || !std::isfinite(v)) {
@@ -28,7 +28,7 @@ double parse_number(const std::string& text, const std::string& what) {
 }
 
 int parse_integer(const std::string& text, const std::string& what) {
-  const std::string t = trim(text);
+  const std::string t = trim_blanks(text);
   int v = 0;
   const auto [end, error] = std::from_chars(t.data(), t.data() + t.size(), v);
   if (t.empty() || error != std::errc() || end != t.data() + t.size()) {
@@ -105,8 +105,8 @@ std::vector<v1::ViewSpec> load_view_file(const std::string& path) {
 void apply_setting(const std::string& assignment, v1::ViewSpec& spec) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) throw UsageError("--set '" + assignment + "': expected KEY=VALUE");
-  const std::string key = canonical_key(trim(assignment.substr(0, eq)));
-  const std::string value = trim(assignment.substr(eq + 1));
+  const std::string key = canonical_key(trim_blanks(assignment.substr(0, eq)));
+  const std::string value = trim_blanks(assignment.substr(eq + 1));
   const std::string what = "--set " + key;
   try {
     if (key == "type") return spec.set_type(to_proto(view_type_from_string(value, what)));

@@ -15,7 +15,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp = std::string(R"(usage: omniview views list
+const std::string kViewsHelp = std::string(R"(usage: omniview views list
        omniview views get VIEW
        omniview views create --file VIEW.yaml [--set KEY=VALUE ...]
        omniview views create --set name=NAME --set type=TYPE [--set KEY=VALUE ...]
@@ -258,7 +258,7 @@ int remove(Connection& connection, const Args& args) {
 }  // namespace
 
 int views_command(const std::vector<std::string>& argv) {
-  const auto args = parse_command_args(argv, {}, {"file", "set"}, kHelp);
+  const auto args = parse_command_args(argv, {}, {"file", "set"}, kViewsHelp);
   if (!args) return 0;
   const auto& positional = args->positional();
   if (positional.empty()) throw UsageError("missing subcommand: list, get, create, update, delete or save (see --help)");

@@ -14,7 +14,7 @@
 namespace omniview::cli {
 namespace {
 
-const std::string kHelp = std::string(R"(usage: omniview watch VIEW [--duration S] [--encoding E] [--rate HZ] [--gray]
+const std::string kWatchHelp = std::string(R"(usage: omniview watch VIEW [--duration S] [--encoding E] [--rate HZ] [--gray]
 
 Streams a view and prints, once a second, what arrives: frames per second, latency
 (the daemon's, from the images' arrival to the frame's encoding: median and max over the
@@ -62,7 +62,7 @@ std::string line(const std::string& view, const Window& w, double seconds, const
 int watch_command(const std::vector<std::string>& argv) {
   std::vector<std::string> flags = stream_flags();
   flags.push_back("duration");
-  const auto args = parse_command_args(argv, stream_switches(), flags, kHelp);
+  const auto args = parse_command_args(argv, stream_switches(), flags, kWatchHelp);
   if (!args) return 0;
   expect_positional(*args, 1, "VIEW");
   const double duration_s = args->has("duration") ? parse_positive(args->get("duration"), "--duration") : 0;

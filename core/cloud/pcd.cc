@@ -14,12 +14,9 @@
 namespace omniview {
 namespace {
 
+using cloud_io::fail;
 using cloud_io::Field;
 using cloud_io::Scalar;
-
-[[noreturn]] void fail(const std::string& name, const std::string& message) {
-  throw CloudFormatError(name + ": " + message);
-}
 
 std::optional<Scalar> pcd_type(char type, uint64_t size) {
   if (type == 'F') {

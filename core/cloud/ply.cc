@@ -11,6 +11,7 @@
 namespace omniview {
 namespace {
 
+using cloud_io::fail;
 using cloud_io::Field;
 using cloud_io::Scalar;
 
@@ -37,10 +38,6 @@ std::optional<Scalar> ply_type(std::string_view t) {
   if (t == "float" || t == "float32") return Scalar::kF32;
   if (t == "double" || t == "float64") return Scalar::kF64;
   return std::nullopt;
-}
-
-[[noreturn]] void fail(const std::string& name, const std::string& message) {
-  throw CloudFormatError(name + ": " + message);
 }
 
 enum class PlyFormat { kAscii, kLittle, kBig };

@@ -226,4 +226,8 @@ bool stamp_from_string(std::string_view text, std::chrono::system_clock::time_po
   return true;
 }
 
+void fail(const std::string& name, const std::string& message) {
+  throw CloudFormatError(name + ": " + message);
+}
+
 }  // namespace omniview::cloud_io

@@ -4,24 +4,24 @@
 
 namespace omniview {
 namespace {
-constexpr double kDeg = M_PI / 180;
+constexpr double kRadiansPerDegree = M_PI / 180;
 double mercator_y(double phi) { return std::log(std::tan(M_PI / 4 + phi / 2)); }
 }  // namespace
 
 PanoramaView::PanoramaView(const ViewSpec& spec) : View(spec) {
-  span_ = spec.azimuth_span_deg * kDeg;
+  span_ = spec.azimuth_span_deg * kRadiansPerDegree;
   switch (spec.type) {
     case ViewType::kCylindrical:
-      top_ = std::tan(spec.vfov_deg * kDeg / 2);
+      top_ = std::tan(spec.vfov_deg * kRadiansPerDegree / 2);
       bottom_ = -top_;
       break;
     case ViewType::kMercator:
-      top_ = mercator_y(spec.lat_max_deg * kDeg);
-      bottom_ = mercator_y(spec.lat_min_deg * kDeg);
+      top_ = mercator_y(spec.lat_max_deg * kRadiansPerDegree);
+      bottom_ = mercator_y(spec.lat_min_deg * kRadiansPerDegree);
       break;
     default:
-      top_ = spec.lat_max_deg * kDeg;
-      bottom_ = spec.lat_min_deg * kDeg;
+      top_ = spec.lat_max_deg * kRadiansPerDegree;
+      bottom_ = spec.lat_min_deg * kRadiansPerDegree;
   }
   cos_az_.resize(spec.width);
   sin_az_.resize(spec.width);

@@ -95,8 +95,9 @@ void validate(const ViewSpec& s) {
     check(v >= 1 && v <= kMaxViewSide, s, field,
           "must be between 1 and " + std::to_string(kMaxViewSide) + " pixels, got " + std::to_string(v));
   }
+  static constexpr const char* kPositionFields[3] = {"position.x", "position.y", "position.z"};
   for (int i = 0; i < 3; ++i) {
-    check(within(s.position[i], -kMaxViewLength_m, kMaxViewLength_m), s, std::string("position.") + "xyz"[i],
+    check(within(s.position[i], -kMaxViewLength_m, kMaxViewLength_m), s, kPositionFields[i],
           "must be within +-" + num(kMaxViewLength_m) + " m, got " + num(s.position[i]));
   }
   check(within(s.yaw_deg, -kMaxAngleDeg, kMaxAngleDeg), s, "yaw_deg",

@@ -22,7 +22,8 @@ std::string describe(const FormatOption& o) {
     for (size_t i = 0; i < o.fps.size(); ++i) {
       char buf[32];
       std::snprintf(buf, sizeof buf, "%g", o.fps[i]);
-      s += (i ? "/" : "") + std::string(buf);
+      if (i) s += '/';
+      s += buf;
     }
     s += " fps";
   }
@@ -58,7 +59,10 @@ CaptureFormat choose_format(const std::vector<FormatOption>& offers, const Forma
   }
   if (!best) {
     std::string wanted;
-    for (uint32_t f : request.pixel_formats) wanted += (wanted.empty() ? "" : " or ") + fourcc_text(f);
+    for (uint32_t f : request.pixel_formats) {
+      if (!wanted.empty()) wanted += " or ";
+      wanted += fourcc_text(f);
+    }
     if (request.width > 0) wanted += " " + std::to_string(request.width) + "x" + std::to_string(request.height);
     if (request.aspect > 0) wanted += " (width:height " + std::to_string(request.aspect).substr(0, 4) + ":1)";
     if (request.fps > 0) wanted += " @ " + std::to_string(request.fps).substr(0, 5) + " fps";

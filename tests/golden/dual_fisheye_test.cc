@@ -12,9 +12,10 @@
 namespace omniview {
 namespace {
 
+using golden::kWorld;
+
 using synthetic::Scene;
 
-const std::string kWorld = "base_link";
 
 TEST(GoldenDualFisheye, EquirectangularOnSphere) {
   const Rig rig = golden::example_rig();

@@ -16,6 +16,9 @@
 
 namespace omniview::golden {
 
+// The world frame of the golden rigs (their scenes are posed in it).
+inline const std::string kWorld = "base_link";
+
 // What the cameras deliver. kMixed: even-indexed cameras greyscale, odd ones BGR.
 enum class Inputs { kColour, kGrey, kMixed };
 

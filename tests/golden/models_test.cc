@@ -9,7 +9,8 @@
 namespace omniview {
 namespace {
 
-const std::string kWorld = "base_link";
+using golden::kWorld;
+
 
 void expect_every_camera_contributes(const golden::Score& s, double bound_db) {
   for (const auto& c : s.cameras) {

@@ -33,7 +33,9 @@ std::string shipped_config_text() {
     text.replace(at, from.size(), to);
   };
   replace("listen: 127.0.0.1:50051", "listen: 127.0.0.1:0");
-  replace("file: insta360/sample", "file: " + std::string(OMNIVIEW_SOURCE_DIR) + "/config/insta360/sample");
+  std::string sample = OMNIVIEW_SOURCE_DIR;
+  sample += "/config/insta360/sample";
+  replace("file: insta360/sample", "file: " + sample);
   return text;
 }
 

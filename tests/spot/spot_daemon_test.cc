@@ -630,10 +630,8 @@ TEST(SpotSource, TheReadmesCreatedViewIsCovered) {
   EXPECT_TRUE(eventually(all_mapped, std::chrono::milliseconds(static_cast<int64_t>(5000 * test_time_scale()))));
   for (const auto& v : st.views()) {
     std::cout << "view " << v.name() << ": coverage " << v.coverage() << "\n";
-    if (v.name() == "left") EXPECT_GT(v.coverage(), 0.97);
-    if (v.name() == "front") EXPECT_GT(v.coverage(), 0.99);
-    if (v.name() == "panorama") EXPECT_GT(v.coverage(), 0.95);
-    if (v.name() == "birdseye") EXPECT_GT(v.coverage(), 0.85);
+    const std::map<std::string, double> least = {{"left", 0.97}, {"front", 0.99}, {"panorama", 0.95}, {"birdseye", 0.85}};
+    if (least.count(v.name())) EXPECT_GT(v.coverage(), least.at(v.name())) << v.name();
   }
 }
 
