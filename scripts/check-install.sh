@@ -6,7 +6,7 @@
 #
 #   bash scripts/check-install.sh [BUILD_DIR] [--deb]
 #
-# Needs a build with omniviewd, omniview and spot-mock built. No root, no running systemd:
+# Needs a build with omniviewd and omniview built. No root, no running systemd:
 # verify runs on the scratch tree (skipped, saying so, where systemd-analyze is missing).
 set -euo pipefail
 
@@ -32,9 +32,11 @@ DESTDIR=$root cmake --install "$build" --prefix /usr > "$scratch/install.log" ||
 expected=(
   usr/bin/omniviewd
   usr/bin/omniview
-  usr/bin/spot-mock
   etc/omniview/omniviewd.yaml
   etc/omniview/spot.yaml
+  etc/omniview/spot/README
+  etc/omniview/insta360.yaml
+  etc/omniview/insta360/air_calibration.yaml
   etc/omniview/examples/dual_fisheye/rig.yaml
   etc/omniview/examples/dual_fisheye/front.jpg
   etc/omniview/examples/views/front_perspective.yaml
@@ -46,7 +48,9 @@ expected=(
 for f in "${expected[@]}"; do
   [ -e "$root/$f" ] || fail "the install tree lacks $f"
 done
-for f in usr/bin/omniviewd usr/bin/omniview usr/bin/spot-mock; do
+[ ! -e "$root/usr/bin/spot-mock" ] || fail "the install tree ships spot-mock (a test tool)"
+grep -q 'out/spot-mock' "$root/etc/omniview/spot.yaml" && fail "the installed spot.yaml names the source tree's out/spot-mock"
+for f in usr/bin/omniviewd usr/bin/omniview; do
   [ -x "$root/$f" ] || fail "$f is not executable"
 done
 # Nothing outside the places a package may use.
@@ -58,9 +62,11 @@ grep -q '^ExecStart=/usr/bin/omniviewd --config /etc/omniview/omniviewd.yaml$' "
 grep -q '^User=omniview$' "$unit" || fail "the unit does not run as the user omniview"
 grep -q '^u omniview ' "$root/usr/lib/sysusers.d/omniview.conf" || fail "sysusers.d entry"
 
-# The installed daemon accepts the installed config (its relative paths resolve in /etc/omniview).
-"$root/usr/bin/omniviewd" --check --config "$root/etc/omniview/omniviewd.yaml" > "$scratch/check.log" 2>&1 ||
-  { cat "$scratch/check.log" >&2; fail "omniviewd --check rejects the installed config"; }
+# The installed daemon accepts the installed configs (their relative paths resolve in /etc/omniview).
+for config in omniviewd.yaml insta360.yaml; do
+  "$root/usr/bin/omniviewd" --check --config "$root/etc/omniview/$config" > "$scratch/check.log" 2>&1 ||
+    { cat "$scratch/check.log" >&2; fail "omniviewd --check rejects the installed $config"; }
+done
 
 if command -v systemd-analyze > /dev/null; then
   # verify wants the programs a unit names to exist: check a copy that names them in the tree.
@@ -96,7 +102,10 @@ if [ "$deb" = 1 ]; then
   for f in postinst prerm postrm conffiles; do
     [ -e "$scratch/control/$f" ] || fail "the package has no $f"
   done
-  grep -qx /etc/omniview/omniviewd.yaml "$scratch/control/conffiles" || fail "omniviewd.yaml is not a conffile"
+  # Every file in /etc is a conffile: dpkg keeps an admin's edits across upgrades.
+  grep '^etc/' "$scratch/deb-files" | grep -v '/$' | sed 's|^|/|' | sort > "$scratch/etc-files"
+  sort "$scratch/control/conffiles" | diff -u "$scratch/etc-files" - > "$scratch/conffiles.diff" ||
+    { cat "$scratch/conffiles.diff" >&2; fail "the conffiles differ from the files in /etc (-: not a conffile)"; }
   grep -q 'systemd-sysusers omniview.conf' "$scratch/control/postinst" || fail "postinst does not create the user"
   depends=$(dpkg-deb --field "$package" Depends)
   case "$depends" in *libgrpc*) ;; *) fail "Depends lacks the gRPC library: $depends" ;; esac

@@ -58,7 +58,8 @@ int status_command(const std::vector<std::string>& argv) {
     for (const auto& v : status.views()) {
       views.add({v.name(), std::to_string(v.subscribers()), fixed(v.fps(), 1), std::to_string(v.frames()),
                  std::to_string(v.map_rebuilds()), fixed(v.last_map_build_ms(), 1) + " ms",
-                 fixed(v.coverage() * 100, 1) + "%", fixed(v.last_latency_ms(), 1) + " ms"});
+                 v.map_pending() ? "(building)" : fixed(v.coverage() * 100, 1) + "%",
+                 fixed(v.last_latency_ms(), 1) + " ms"});
     }
     views.print(std::cout, "  ");
     // A view's coverage means something once its source has delivered (a robot not yet
@@ -75,6 +76,7 @@ int status_command(const std::vector<std::string>& argv) {
     for (const auto& v : status.views()) {
       const auto source = source_of.find(v.name());
       if (source != source_of.end() && !delivering[source->second]) continue;
+      if (v.map_pending()) continue;  // the coverage is the old map's
       const std::string warning = low_coverage_warning(v.name(), v.coverage());
       if (!warning.empty()) std::cout << "  warning: " << warning << "\n";
     }

@@ -54,6 +54,8 @@ v1::Status Pipeline::status() const {
     s->set_map_rebuilds(stats.map_rebuilds);
     s->set_last_map_build_ms(stats.last_map_build_ms);
     s->set_coverage(state->coverage);
+    const auto current = rig(state->spec.source);
+    s->set_map_pending(current && current != state->rig);
     s->set_last_latency_ms(stats.last_latency_ms);
     for (const auto& sub : subscribers) {
       auto* c = st.add_clients();

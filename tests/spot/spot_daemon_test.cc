@@ -631,9 +631,41 @@ TEST(SpotSource, TheReadmesCreatedViewIsCovered) {
   EXPECT_TRUE(eventually(all_mapped, std::chrono::milliseconds(static_cast<int64_t>(5000 * test_time_scale()))));
   for (const auto& v : st.views()) {
     std::cout << "view " << v.name() << ": coverage " << v.coverage() << "\n";
-    const std::map<std::string, double> least = {{"left", 0.97}, {"front", 0.99}, {"panorama", 0.95}, {"birdseye", 0.85}};
-    if (least.count(v.name())) EXPECT_GT(v.coverage(), least.at(v.name())) << v.name();
+    const std::map<std::string, double> least = {{"left", 0.97}, {"front", 0.9999}, {"panorama", 0.95}, {"birdseye", 0.85}};
+    if (least.count(v.name())) EXPECT_GT(v.coverage(), least.at(v.name())) << v.name();  // front: no notch at the top
   }
+}
+
+// The robot connects after the daemon started (no cameras known until then): while a
+// watched view's map is rebuilt for the cameras the robot announced, GetStatus says
+// `map_pending` instead of reporting the old map's 0 % coverage, which `omniview status`
+// would otherwise show and warn about.
+TEST(SpotSource, StatusSaysAMapIsPendingRatherThanUncoveredWhenTheRobotConnects) {
+  TempDir dir;
+  const int port = free_port();
+  { SpotMock first(dir, port); }  // leaves its CA and credentials, which the daemon's config names
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+  FrameReader reader(*stub, "front");
+  SpotMock mock(dir, port);
+  int pending_seen = 0, polls = 0;
+  const auto covered = [&] {
+    v1::Status st;
+    if (!stub->GetStatus(make_context().get(), v1::GetStatusRequest(), &st).ok()) return false;
+    ++polls;
+    bool delivering = false;
+    for (const auto& s : st.sources()) delivering |= s.name() == "spot" && s.connected() && s.frames() > 0;
+    for (const auto& v : st.views()) {
+      if (v.name() != "front") continue;
+      if (v.map_pending()) ++pending_seen;
+      if (delivering && !v.map_pending()) EXPECT_GT(v.coverage(), 0.9) << "poll " << polls;
+      return delivering && !v.map_pending() && reader.frames() > 0;
+    }
+    ADD_FAILURE() << "no view 'front' in status";
+    return true;
+  };
+  ASSERT_TRUE(eventually(covered, 15s)) << daemon.log();
+  std::cout << polls << " polls, map pending in " << pending_seen << "\n";
 }
 
 }  // namespace
