@@ -664,7 +664,8 @@ TEST(SpotSource, StatusSaysAMapIsPendingRatherThanUncoveredWhenTheRobotConnects)
     ADD_FAILURE() << "no view 'front' in status";
     return true;
   };
-  ASSERT_TRUE(eventually(covered, 15s)) << daemon.log();
+  ASSERT_TRUE(eventually(covered, std::chrono::milliseconds(static_cast<int64_t>(15000 * test_time_scale()))))
+      << daemon.log();
   std::cout << polls << " polls, map pending in " << pending_seen << "\n";
 }
 
