@@ -137,7 +137,10 @@ bool eventually(F&& done, std::chrono::milliseconds timeout) {
   return done();
 }
 
+// The timeout is 8 s in the release run, times the sanitizer time scale otherwise (the mock
+// renders and the daemon builds its maps several times slower there).
 grpc::Status snapshot(v1::Omniview::Stub& stub, const std::string& view, v1::Frame& frame, int timeout_ms = 8000) {
+  timeout_ms = static_cast<int>(timeout_ms * test_time_scale());
   v1::SnapshotRequest r;
   r.set_view(view);
   r.set_encoding(v1::RAW);
