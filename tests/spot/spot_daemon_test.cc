@@ -635,7 +635,9 @@ TEST(SpotSource, TheReadmesCreatedViewIsCovered) {
   for (const auto& v : st.views()) {
     std::cout << "view " << v.name() << ": coverage " << v.coverage() << "\n";
     const std::map<std::string, double> least = {{"left", 0.97}, {"front", 0.9999}, {"panorama", 0.95}, {"birdseye", 0.85}};
-    if (least.count(v.name())) EXPECT_GT(v.coverage(), least.at(v.name())) << v.name();  // front: no notch at the top
+    if (least.count(v.name())) {
+      EXPECT_GT(v.coverage(), least.at(v.name())) << v.name();  // front: no notch at the top
+    }
   }
 }
 
@@ -661,7 +663,9 @@ TEST(SpotSource, StatusSaysAMapIsPendingRatherThanUncoveredWhenTheRobotConnects)
     for (const auto& v : st.views()) {
       if (v.name() != "front") continue;
       if (v.map_pending()) ++pending_seen;
-      if (delivering && !v.map_pending()) EXPECT_GT(v.coverage(), 0.9) << "poll " << polls;
+      if (delivering && !v.map_pending()) {
+        EXPECT_GT(v.coverage(), 0.9) << "poll " << polls;
+      }
       return delivering && !v.map_pending() && reader.frames() > 0;
     }
     ADD_FAILURE() << "no view 'front' in status";
