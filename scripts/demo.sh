@@ -62,7 +62,7 @@ wait_ready() {
 
 step "starting spot-mock, a simulated Spot on 127.0.0.1:50443 (log: $out/spot-mock.log)"
 "$spot_mock" --port 50443 --certs "$robot" --credentials "$robot/credentials.yaml" \
-  --ready-file "$out/spot-mock.ready" > "$out/spot-mock.log" 2>&1 &
+  --render-cache "$robot/render-cache" --ready-file "$out/spot-mock.ready" > "$out/spot-mock.log" 2>&1 &
 pids+=($!)
 wait_ready spot-mock "$!" "$out/spot-mock.ready" "$out/spot-mock.log"
 

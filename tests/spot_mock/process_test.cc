@@ -1,6 +1,8 @@
 // The spot-mock program: command line, files it makes, the colour robot, shutdown.
 #include <sys/stat.h>
 
+#include <filesystem>
+#include <fstream>
 #include <regex>
 
 #include "bosdyn/api/image_service.grpc.pb.h"
@@ -23,7 +25,7 @@ TEST(SpotMockProgram, HelpDocumentsEveryFlag) {
   const auto help = run_process(std::string(SPOT_MOCK) + " --help");
   EXPECT_EQ(help.exit_code, 0);
   for (const char* flag : {"--port", "--bind", "--certs", "--credentials", "--token-lifetime-s", "--lockout-s", "--scene",
-                           "--rgb", "--supersample", "--ready-file", "--latency-ms", "--fail-probability",
+                           "--rgb", "--supersample", "--render-cache", "--ready-file", "--latency-ms", "--fail-probability",
                            "--image-error-probability", "--corrupt-probability", "--wrong-size-probability", "--away",
                            "control"}) {
     EXPECT_NE(help.output.find(flag), std::string::npos) << flag;
@@ -95,6 +97,58 @@ TEST(SpotMockProgram, ColourRobotOwnLoginAndCleanShutdown) {
   }
   EXPECT_EQ(mock.stop(SIGTERM), 0) << mock.log();
   EXPECT_NE(mock.log().find("shutting down"), std::string::npos);
+}
+
+// Every camera's raw greyscale picture, as the mock serves it.
+std::vector<std::string> raw_pictures(const SpotMockProcess& mock) {
+  auto stub = bosdyn::api::ImageService::NewStub(mock.channel("api.spot.robot"));
+  const std::string token = mock.login();
+  bosdyn::api::ListImageSourcesResponse sources;
+  EXPECT_TRUE(stub->ListImageSources(spot_context(token).get(), {}, &sources).ok());
+  bosdyn::api::GetImageRequest request;
+  for (const auto& source : sources.image_sources()) {
+    auto* r = request.add_image_requests();
+    r->set_image_source_name(source.name());
+    r->set_image_format(Image::FORMAT_RAW);
+    r->set_pixel_format(Image::PIXEL_FORMAT_GREYSCALE_U8);
+  }
+  bosdyn::api::GetImageResponse response;
+  EXPECT_TRUE(stub->GetImage(spot_context(token).get(), request, &response).ok());
+  std::vector<std::string> pictures;
+  for (const auto& r : response.image_responses()) pictures.push_back(r.shot().image().data());
+  return pictures;
+}
+
+// --render-cache: a later start serves exactly the pictures a fresh render gave, and an
+// entry that cannot be read is rendered again and replaced, never served.
+TEST(SpotMockProgram, RenderCacheServesTheSamePicturesAndReplacesABrokenEntry) {
+  TempDir dir;
+  const std::filesystem::path cache = dir.path() / "render-cache";
+  const std::vector<std::string> args = {"--scene", "test", "--supersample", "1", "--render-cache", cache.string()};
+  std::vector<std::string> rendered;
+  {
+    SpotMockProcess mock(dir.path(), args);
+    rendered = raw_pictures(mock);
+  }
+  ASSERT_EQ(rendered.size(), 5u);
+  for (const auto& picture : rendered) EXPECT_EQ(picture.size(), 640u * 480u);
+
+  std::vector<std::filesystem::path> entries;
+  for (const auto& item : std::filesystem::directory_iterator(cache)) entries.push_back(item.path());
+  ASSERT_EQ(entries.size(), 1u) << "one entry, no staging folder left behind";
+  EXPECT_TRUE(std::filesystem::exists(entries[0] / "key"));
+  {
+    SpotMockProcess mock(dir.path(), args);
+    EXPECT_EQ(raw_pictures(mock), rendered) << "served from the cache";
+  }
+
+  const auto broken = entries[0] / "camera_2.png";
+  std::ofstream(broken, std::ios::trunc) << "not a PNG";
+  {
+    SpotMockProcess mock(dir.path(), args);
+    EXPECT_EQ(raw_pictures(mock), rendered) << "rendered again";
+  }
+  EXPECT_GT(std::filesystem::file_size(broken), 1000u) << "the broken entry was replaced";
 }
 
 }  // namespace

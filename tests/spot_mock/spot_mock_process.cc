@@ -1,6 +1,7 @@
 #include "tests/spot_mock/spot_mock_process.h"
 
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -20,6 +21,9 @@ std::vector<std::string> mock_args(const fs::path& dir, std::vector<std::string>
   std::vector<std::string> args = {SPOT_MOCK, "--port", std::to_string(port), "--certs", SpotMockProcess::certs_dir(dir),
                                    "--credentials", (dir / "credentials.yaml").string(), "--ready-file",
                                    (dir / ("spot_mock_ready_" + tag)).string()};
+  if (std::find(extra.begin(), extra.end(), "--render-cache") == extra.end()) {
+    args.insert(args.end(), {"--render-cache", SPOT_MOCK_RENDER_CACHE});
+  }
   for (auto& a : extra) args.push_back(std::move(a));
   return args;
 }

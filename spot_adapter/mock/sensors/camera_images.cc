@@ -21,13 +21,17 @@ std::string encode(const cv::Mat& picture, Encoding encoding, int quality) {
 
 }  // namespace
 
-CameraImages::CameraImages(const synthetic::Scene& scene, const Rig& rig, const std::string& world_frame,
-                           bool colour, int supersample)
-    : colour_(colour) {
+std::vector<cv::Mat> render_pictures(const synthetic::Scene& scene, const Rig& rig, const std::string& world_frame,
+                                     bool colour, int supersample) {
+  std::vector<cv::Mat> pictures;
   for (size_t i = 0; i < rig.cameras().size(); ++i) {
-    images_.push_back(synthetic::render_camera(scene, rig, i, world_frame, {.supersample = supersample, .grey = !colour}));
+    pictures.push_back(synthetic::render_camera(scene, rig, i, world_frame, {.supersample = supersample, .grey = !colour}));
   }
+  return pictures;
 }
+
+CameraImages::CameraImages(std::vector<cv::Mat> pictures, bool colour)
+    : colour_(colour), images_(std::move(pictures)) {}
 
 const std::string& CameraImages::encoded(size_t camera, Encoding encoding, bool grey, int quality) {
   grey = grey || !colour_;

@@ -1,5 +1,6 @@
-// The body cameras' pictures: rendered once at start-up (the scene is static), encoded on
-// first request per format and quality, and served from the cache after that.
+// The body cameras' pictures: rendered once at start-up (the scene is static; see
+// render_pictures), encoded on first request per format and quality, and served from the
+// cache after that.
 #pragma once
 
 #include <map>
@@ -17,12 +18,15 @@ namespace omniview::spot_mock {
 
 enum class Encoding { kJpeg, kRaw };
 
+// Renders every camera of `rig` (scene in `world_frame`): CV_8UC3 BGR for a colour robot,
+// else CV_8UC1.
+std::vector<cv::Mat> render_pictures(const synthetic::Scene& scene, const Rig& rig, const std::string& world_frame,
+                                     bool colour, int supersample);
+
 class CameraImages {
  public:
-  // Renders every camera of `rig` (scene in `world_frame`): CV_8UC3 BGR for a colour
-  // robot, else CV_8UC1.
-  CameraImages(const synthetic::Scene& scene, const Rig& rig, const std::string& world_frame, bool colour,
-               int supersample);
+  // One picture per camera: CV_8UC3 BGR for a colour robot, else CV_8UC1.
+  CameraImages(std::vector<cv::Mat> pictures, bool colour);
 
   size_t count() const { return images_.size(); }
   bool colour() const { return colour_; }

@@ -32,6 +32,9 @@ void print_mock_help() {
       "                               the floor and on a wall x = 3 m (for golden comparisons)\n"
       "  --rgb                        a colour robot (RGB_U8); default greyscale like most Spots\n"
       "  --supersample N              rays per pixel along each axis when rendering (default 2)\n"
+      "  --render-cache DIR           keep the rendered pictures in DIR and reuse them on later\n"
+      "                               starts of this same spot-mock build with the same scene,\n"
+      "                               colour and supersampling (the render is most of start-up)\n"
       "  --ready-file FILE            once serving, write HOST:PORT to FILE\n"
       "  --clock-offset-ms N          the robot's clock runs N ms ahead of this machine's (negative:\n"
       "                               behind); clients correct for it with TimeSyncService\n"
@@ -113,6 +116,8 @@ ParsedOptions parse_mock_options(const std::vector<std::string>& args) {
         o.robot.colour = true;
       } else if (arg == "--supersample") {
         o.robot.supersample = parse_int(arg, value(), 1, 8);
+      } else if (arg == "--render-cache") {
+        o.robot.render_cache = value();
       } else if (arg == "--ready-file") {
         o.ready_file = value();
       } else if (arg == "--latency-ms") {

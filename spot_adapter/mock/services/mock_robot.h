@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <string>
 
 #include "core/rig/rig.h"
 #include "spot_adapter/mock/auth/token_store.h"
@@ -20,6 +21,8 @@ struct MockRobotConfig {
   SceneKind scene = SceneKind::kRoom;
   bool colour = false;  // an RGB robot (newer Spots) instead of greyscale cameras
   int supersample = 2;  // rays per pixel along each axis when rendering
+  // A folder of pictures rendered by earlier starts (sensors/render_cache.h); empty: none.
+  std::string render_cache;
   Credentials credentials;
   TokenStore::Policy token_policy;
   FaultSettings faults;
