@@ -11,6 +11,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   liburdfdom-dev liburdfdom-headers-dev libassimp-dev libosmesa6-dev
   libturbojpeg0-dev
+  libx264-dev      # H.264 streams (server/video)
+  libavcodec-dev   # the video tests decode what the daemon sends (tests/video only)
   dpkg-dev systemd  # cpack -G DEB (dpkg-shlibdeps) and systemd-analyze verify: scripts/check-install.sh
 )
 
