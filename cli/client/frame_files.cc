@@ -24,7 +24,16 @@ v1::Encoding encoding_from_name(const std::string& name, const std::string& what
 v1::Encoding encoding_for_path(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext.empty()) throw UsageError("'" + path + "': name the file .png, .jpg or .raw to choose the encoding");
-  return encoding_from_name(ext.substr(1), "'" + path + "'");
+  // One file is one still image: a video stream is `omniview stream --encoding h264`.
+  v1::Encoding encoding = v1::ENCODING_UNSPECIFIED;
+  try {
+    encoding = encoding_from_name(ext.substr(1), "'" + path + "'");
+  } catch (const UsageError&) {
+  }
+  if (encoding == v1::ENCODING_UNSPECIFIED || encoding == v1::H264) {
+    throw UsageError("'" + path + "': '" + ext.substr(1) + "' is not an image encoding (jpg, png or raw)");
+  }
+  return encoding;
 }
 
 std::string extension_for(v1::Encoding encoding) {

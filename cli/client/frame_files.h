@@ -9,7 +9,8 @@
 
 namespace omniview::cli {
 
-// .jpg/.jpeg -> JPEG, .png -> PNG, .raw -> RAW; anything else throws UsageError.
+// .jpg/.jpeg -> JPEG, .png -> PNG, .raw -> RAW; anything else (.h264 too: one file is one
+// still) throws UsageError.
 v1::Encoding encoding_for_path(const std::string& path);
 // v1::JPEG -> "jpg", PNG -> "png", RAW -> "raw", H264 -> "h264".
 std::string extension_for(v1::Encoding encoding);

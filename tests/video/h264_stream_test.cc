@@ -6,7 +6,9 @@
 
 #include <atomic>
 #include <cmath>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <mutex>
 #include <thread>
 
@@ -337,7 +339,9 @@ TEST_F(H264Stream, TheClisFolderHoldsOnePlayableFile) {
     ASSERT_EQ(cells.size(), 12u) << line;
     const size_t offset = std::stoul(cells[9]), size = std::stoul(cells[10]);
     ASSERT_LE(offset + size, bytes.size());
-    if (rows == 0) EXPECT_EQ(cells[11], "1") << "the file starts at a key frame";
+    if (rows == 0) {
+      EXPECT_EQ(cells[11], "1") << "the file starts at a key frame";
+    }
     const cv::Mat picture = decoder.decode(bytes.substr(offset, size));
     EXPECT_EQ(picture.cols, 800) << decoder.last_error();
     ++rows;
@@ -405,7 +409,9 @@ TEST_F(H264Stream, AViewResizedMidStreamStartsAgainAtAKeyFrameOrEndsClearlyWhenO
   bool resized = false;
   for (size_t i = before; i < frames.size(); ++i) {
     if (frames[i].width != 480) continue;
-    if (!resized) EXPECT_TRUE(frames[i].key_frame) << "the first frame of the new size is a key frame";
+    if (!resized) {
+      EXPECT_TRUE(frames[i].key_frame) << "the first frame of the new size is a key frame";
+    }
     resized = true;
     EXPECT_EQ(frames[i].picture.cols, 480) << client.last_error();
   }
