@@ -6,7 +6,7 @@
 //
 // Counters: kbit_s at 15 fps, psnr_db (mean luma PSNR of the decoded frames against the
 // rendered ones, libavcodec decoding), and the time per iteration is one frame's encode
-// (single encoder, 2 slice threads as the daemon runs it; `threads:1` beside it).
+// (single encoder, 2 slice threads as the daemon runs it; one thread beside it).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -110,8 +110,9 @@ struct Quality {
 };
 
 // One pass over the sequence (forward and back) through a fresh encoder and a decoder.
-Quality h264_quality(const Sequence& seq, double crf, int threads) {
+Quality h264_quality(const Sequence& seq, double crf, int threads, const std::string& preset) {
   video::H264Settings s;
+  s.preset = preset;
   s.width = seq.frames[0].cols;
   s.height = seq.frames[0].rows;
   s.fps = kFps;
@@ -153,10 +154,11 @@ Quality jpeg_quality(const Sequence& seq, int quality) {
 }
 
 // The encode time of one frame, the stream's bitrate and quality as counters.
-void BM_H264(benchmark::State& state, const std::string& view, double crf, int threads) {
+void BM_H264(benchmark::State& state, const std::string& view, double crf, int threads, const std::string& preset) {
   const Sequence& seq = sequence(view);
-  const Quality q = h264_quality(seq, crf, threads);
+  const Quality q = h264_quality(seq, crf, threads, preset);
   video::H264Settings s;
+  s.preset = preset;
   s.width = seq.frames[0].cols;
   s.height = seq.frames[0].rows;
   s.fps = kFps;
@@ -177,7 +179,7 @@ void BM_H264(benchmark::State& state, const std::string& view, double crf, int t
 // PSNR reaches the H.264 stream's at `crf`; the time is one frame's JPEG encode.
 void BM_Anchor_JpegSamePsnr(benchmark::State& state, const std::string& view, double crf) {
   const Sequence& seq = sequence(view);
-  const double target = h264_quality(seq, crf, 2).psnr_db;
+  const double target = h264_quality(seq, crf, 2, video::H264Settings().preset).psnr_db;
   int quality = 1;
   Quality q;
   for (quality = 50; quality <= 100; ++quality) {
@@ -200,13 +202,27 @@ void BM_Anchor_JpegSamePsnr(benchmark::State& state, const std::string& view, do
   state.counters["jpeg_quality"] = quality;
 }
 
-BENCHMARK_CAPTURE(BM_H264, front_640x480_grey_crf23, "front", 23, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_H264, front_640x480_grey_crf23_threads1, "front", 23, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_H264, front_640x480_grey_crf28, "front", 28, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Anchor_JpegSamePsnr, front_640x480_grey_as_crf23, "front", 23)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_H264, birdseye_800x800_grey_crf23, "birdseye", 23, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_H264, birdseye_800x800_grey_crf28, "birdseye", 28, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Anchor_JpegSamePsnr, birdseye_800x800_grey_as_crf23, "birdseye", 23)->Unit(benchmark::kMillisecond)->UseRealTime();
+// The daemon's settings (superfast, 2 slice threads, CRF 26 = quality 50, the default)
+// first; then one thread, other CRFs and presets beside them.
+#define OMNIVIEW_H264(view, size, crf, threads, preset)                                                   \
+  BENCHMARK_CAPTURE(BM_H264, view##_##size##_grey_crf##crf##_##preset##_threads##threads, #view, crf, threads, \
+                    #preset)                                                                             \
+      ->Unit(benchmark::kMillisecond)                                                                     \
+      ->UseRealTime()
+OMNIVIEW_H264(front, 640x480, 26, 2, superfast);
+OMNIVIEW_H264(front, 640x480, 26, 1, superfast);
+OMNIVIEW_H264(front, 640x480, 23, 2, superfast);
+OMNIVIEW_H264(front, 640x480, 30, 2, superfast);
+OMNIVIEW_H264(front, 640x480, 26, 2, veryfast);
+OMNIVIEW_H264(front, 640x480, 26, 2, ultrafast);
+BENCHMARK_CAPTURE(BM_Anchor_JpegSamePsnr, front_640x480_grey_as_crf26, "front", 26)->Unit(benchmark::kMillisecond)->UseRealTime();
+OMNIVIEW_H264(birdseye, 800x800, 26, 2, superfast);
+OMNIVIEW_H264(birdseye, 800x800, 26, 1, superfast);
+OMNIVIEW_H264(birdseye, 800x800, 23, 2, superfast);
+OMNIVIEW_H264(birdseye, 800x800, 30, 2, superfast);
+OMNIVIEW_H264(birdseye, 800x800, 26, 2, veryfast);
+OMNIVIEW_H264(birdseye, 800x800, 26, 2, ultrafast);
+BENCHMARK_CAPTURE(BM_Anchor_JpegSamePsnr, birdseye_800x800_grey_as_crf26, "birdseye", 26)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace omniview

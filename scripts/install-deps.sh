@@ -13,6 +13,7 @@ packages=(
   libturbojpeg0-dev
   libx264-dev      # H.264 streams (server/video)
   libavcodec-dev   # the video tests decode what the daemon sends (tests/video only)
+  ffmpeg           # ffprobe: the video tests read the CLI's H.264 pipe as a player does
   dpkg-dev systemd  # cpack -G DEB (dpkg-shlibdeps) and systemd-analyze verify: scripts/check-install.sh
 )
 

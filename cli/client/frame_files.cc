@@ -85,7 +85,7 @@ const char* stream_help() {
   --rate HZ          at most this many frames per second (default: as the source delivers)
   --gray             one channel even when some camera is colour
   --quality Q        1..100: JPEG quality (default 85); for h264 the constant rate factor
-                     CRF = 51 - Q/2 (default 56: CRF 23)
+                     CRF = 51 - Q/2 (default 50: CRF 26)
   --bitrate KBPS     h264: a ceiling in kbit/s (50..100000) over the quality (default none)
 )";
 }

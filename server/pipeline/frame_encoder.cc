@@ -79,7 +79,7 @@ EncodingKey encoding_key(v1::Encoding encoding, int quality, bool gray, int max_
       key.encoding = v1::H264;
       if (quality < 0 || quality > 100) {
         throw std::invalid_argument("quality must be 1..100 for H264 (CRF = 51 - quality/2; 0 for the default " +
-                                    std::to_string(kDefaultH264Quality) + ", CRF 23), got " + std::to_string(quality));
+                                    std::to_string(kDefaultH264Quality) + ", CRF 26), got " + std::to_string(quality));
       }
       if (max_kbps != 0 && (max_kbps < video::kMinKbps || max_kbps > video::kMaxKbps)) {
         throw std::invalid_argument("max_bitrate_kbps must be " + std::to_string(video::kMinKbps) + ".." +

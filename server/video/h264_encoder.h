@@ -28,10 +28,12 @@ struct H264Settings {
   int width = 0;
   int height = 0;
   double fps = 15;       // the expected rate: VUI timing and the ceiling's per-frame budget
-  double crf = 23;       // constant rate factor, 0..51 (lower: better); x264's default is 23
+  double crf = 26;       // constant rate factor, 0..51 (lower: better); the streams' default
   int max_kbps = 0;      // > 0: a ceiling (VBV max rate, one-second buffer) over the CRF
   int threads = 2;       // slice threads: the frame's own latency shrinks, none is added
-  std::string preset = "veryfast";
+  // superfast: 2.4 ms a 640x480 frame where veryfast takes 5-6 ms on the 2-core box, for
+  // ~1.7x the bits of veryfast at the same CRF (bench/README.md, h264_bench).
+  std::string preset = "superfast";
 };
 
 // Bounds that any setting must keep; `check` says which one a value breaks.

@@ -4,6 +4,7 @@
 // errors of bad requests.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <fstream>
@@ -305,6 +306,41 @@ TEST_F(H264Stream, AStalledClientResumesAtAKeyFrameWithoutHurtingOthers) {
   for (size_t i = steady_before; i < steady_frames.size(); ++i) keys += steady_frames[i].key_frame ? 1 : 0;
   EXPECT_LE(keys, 3);
   EXPECT_EQ(steady.decode_errors(), 0) << steady.last_error();
+}
+
+TEST_F(H264Stream, AddsLessThanAFrameIntervalOfLatencyOverJpeg) {
+  // The same frames as JPEG and as H.264, side by side: when each reached its client.
+  std::mutex mutex;
+  std::map<uint64_t, Clock::time_point> jpeg_arrivals;
+  auto stub = make_stub(daemon_->address());
+  v1::StreamFramesRequest jpeg;
+  jpeg.set_view("front");
+  jpeg.set_encoding(v1::JPEG);
+  jpeg.set_gray(true);
+  auto context = make_context("", 60s);
+  auto reader = stub->StreamFrames(context.get(), jpeg);
+  std::thread jpeg_thread([&] {
+    v1::Frame f;
+    while (reader->Read(&f)) {
+      std::lock_guard lock(mutex);
+      jpeg_arrivals[f.sequence()] = Clock::now();
+    }
+  });
+  VideoClient video(daemon_->address(), h264("front"));
+  const bool got = video.wait_for(45, scaled(10000ms));
+  context->TryCancel();
+  jpeg_thread.join();
+  ASSERT_TRUE(got) << daemon_->log();
+  std::vector<double> extra_ms;
+  for (const auto& f : video.frames()) {
+    const auto it = jpeg_arrivals.find(f.sequence);
+    if (it != jpeg_arrivals.end()) extra_ms.push_back(std::chrono::duration<double, std::milli>(f.arrival - it->second).count());
+  }
+  ASSERT_GE(extra_ms.size(), 30u);
+  std::sort(extra_ms.begin(), extra_ms.end());
+  const double p50 = extra_ms[extra_ms.size() / 2];
+  std::cout << "H.264 over JPEG, p50: " << p50 << " ms (includes the client's decode of the previous frame)\n";
+  EXPECT_LT(p50, 1000.0 / 15 * test_time_scale());  // one frame interval at the source's 15 Hz
 }
 
 TEST_F(H264Stream, TheClisPipeIsAnH264StreamThatFfprobeReads) {
