@@ -11,7 +11,7 @@ double h264_crf(int quality) { return 51.0 - (quality == 0 ? kDefaultH264Quality
 VideoStream::VideoStream(const EncodingKey& key) : key_(key) {}
 
 bool VideoStream::take_turn(Clock::time_point now) {
-  std::lock_guard lock(mutex_);
+  std::lock_guard lock(pace_mutex_);
   if (now < next_due_) return false;
   if (key_.rate_mhz > 0) {
     // As Subscriber::offer: from the nominal time, so jitter does not lower the rate, but

@@ -48,8 +48,9 @@ class VideoStream {
  private:
   const EncodingKey key_;
   std::atomic<bool> key_wanted_{true};
-  std::mutex mutex_;
+  std::mutex pace_mutex_;  // the render thread's: never waits for an encode
   Clock::time_point next_due_{};
+  std::mutex mutex_;  // the encoder's state (the pool runs one job per group at a time anyway)
   std::unique_ptr<video::H264Encoder> encoder_;
   Clock::time_point last_key_{};
   Clock::time_point last_arrival_{};
