@@ -13,7 +13,9 @@ packages=(
   libturbojpeg0-dev
   libx264-dev      # H.264 streams (server/video)
   libavcodec-dev   # the video tests decode what the daemon sends (tests/video only)
-  ffmpeg           # ffprobe: the video tests read the CLI's H.264 pipe as a player does
+  ffmpeg           # ffprobe: the video tests read the CLI's H.264 pipe and RTSP as players do
+  libgstrtspserver-1.0-dev libgstreamer-plugins-base1.0-dev  # RTSP (server/rtsp): the server library, appsrc
+  gstreamer1.0-plugins-good gstreamer1.0-plugins-bad         # ... rtph264pay, h264parse
   dpkg-dev systemd  # cpack -G DEB (dpkg-shlibdeps) and systemd-analyze verify: scripts/check-install.sh
 )
 
