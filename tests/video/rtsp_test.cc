@@ -35,7 +35,9 @@ bool have_ffprobe() { return std::system("command -v ffprobe > /dev/null") == 0;
 // ffprobe reading `seconds` of `url` over TCP: "codec,width,height,rate,frames" or its error.
 ProcessResult probe(const std::string& url, double seconds = 1.5) {
   std::ostringstream cmd;
-  cmd << "timeout " << static_cast<int>(15 * test_time_scale()) << " ffprobe -v error -rtsp_transport tcp -count_frames"
+  const bool tls = url.rfind("rtsps:", 0) == 0;  // RTSPS is TCP only
+  cmd << "timeout " << static_cast<int>(15 * test_time_scale()) << " ffprobe -v error" << (tls ? "" : " -rtsp_transport tcp")
+      << " -count_frames"
       << " -read_intervals %+" << seconds << " -show_entries stream=codec_name,width,height,r_frame_rate,nb_read_frames"
       << " -of csv=p=0 '" << url << "' 2>&1";
   return run_process(cmd.str());
@@ -85,6 +87,25 @@ TEST(Rtsp, TheApisTokensAreTheCredentialsAndWrongOnesAreRefused) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("h264,640,480"), std::string::npos) << r.output;
   EXPECT_EQ(daemon.log().find(viewer), std::string::npos) << "a token in the log:\n" << daemon.log();
+}
+
+TEST(Rtsp, WithTlsItSpeaksRtspsOnAnAddressOthersReach) {
+  if (!have_ffprobe()) GTEST_SKIP() << "ffprobe is not installed (apt-get install ffmpeg)";
+  TempDir dir;
+  const auto certs = dir.path() / "certs";
+  ASSERT_EQ(std::system(("bash " OMNIVIEW_SOURCE_DIR "/scripts/make-test-certs.sh " + certs.string() + " > /dev/null").c_str()), 0);
+  const int port = free_port();
+  const std::string viewer = "viewer-token-8d2e61b0c4a95f37";
+  // A wildcard address: allowed because tls and tokens guard it.
+  DaemonProcess daemon(dir, example_config(15, kViews + "tls: {cert: " + (certs / "server.crt").string() + ", key: " +
+                                                   (certs / "server.key").string() + "}\ntokens:\n  - {role: viewer, token: " +
+                                                   viewer + "}\nrtsp: {listen: 0.0.0.0:" + std::to_string(port) + "}\n"));
+  EXPECT_NE(daemon.log().find("rtsps://HOST:" + std::to_string(port) + "/front"), std::string::npos) << daemon.log();
+  const auto r = probe("rtsps://omniview:" + viewer + "@127.0.0.1:" + std::to_string(port) + "/front", 1);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("h264,640,480"), std::string::npos) << r.output;
+  const auto wrong = probe("rtsps://omniview:not-the-token@127.0.0.1:" + std::to_string(port) + "/front", 1);
+  EXPECT_NE(wrong.output.find("401"), std::string::npos) << wrong.output;
 }
 
 TEST(Rtsp, ViewsCreatedAndDeletedThroughTheApiComeAndGo) {
