@@ -8,12 +8,11 @@
 // rendered ones, libavcodec decoding), and the time per iteration is one frame's encode
 // (single encoder, 2 slice threads as the daemon runs it; one thread beside it).
 #include <benchmark/benchmark.h>
+#include <turbojpeg.h>
 
 #include <cmath>
 #include <map>
-
 #include <opencv2/imgproc.hpp>
-#include <turbojpeg.h>
 
 #include "core/map/apply.h"
 #include "core/map/fusion_map.h"
@@ -72,7 +71,8 @@ const Sequence& sequence(const std::string& name) {
   static const std::vector<cv::Mat> cameras = [] {
     std::vector<cv::Mat> images;
     for (size_t i = 0; i < rig.cameras().size(); ++i) {
-      images.push_back(synthetic::render_camera(scene, rig, i, spot_mock::kWorldFrame, {.supersample = 2, .grey = true}));
+      images.push_back(
+          synthetic::render_camera(scene, rig, i, spot_mock::kWorldFrame, {.supersample = 2, .grey = true}));
     }
     return images;
   }();
@@ -204,10 +204,10 @@ void BM_Anchor_JpegSamePsnr(benchmark::State& state, const std::string& view, do
 
 // The daemon's settings (superfast, 2 slice threads, CRF 26 = quality 50, the default)
 // first; then one thread, other CRFs and presets beside them.
-#define OMNIVIEW_H264(view, size, crf, threads, preset)                                                   \
+#define OMNIVIEW_H264(view, size, crf, threads, preset)                                                        \
   BENCHMARK_CAPTURE(BM_H264, view##_##size##_grey_crf##crf##_##preset##_threads##threads, #view, crf, threads, \
-                    #preset)                                                                             \
-      ->Unit(benchmark::kMillisecond)                                                                     \
+                    #preset)                                                                                   \
+      ->Unit(benchmark::kMillisecond)                                                                          \
       ->UseRealTime()
 OMNIVIEW_H264(front, 640x480, 26, 2, superfast);
 OMNIVIEW_H264(front, 640x480, 26, 1, superfast);
@@ -215,14 +215,18 @@ OMNIVIEW_H264(front, 640x480, 23, 2, superfast);
 OMNIVIEW_H264(front, 640x480, 30, 2, superfast);
 OMNIVIEW_H264(front, 640x480, 26, 2, veryfast);
 OMNIVIEW_H264(front, 640x480, 26, 2, ultrafast);
-BENCHMARK_CAPTURE(BM_Anchor_JpegSamePsnr, front_640x480_grey_as_crf26, "front", 26)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Anchor_JpegSamePsnr, front_640x480_grey_as_crf26, "front", 26)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 OMNIVIEW_H264(birdseye, 800x800, 26, 2, superfast);
 OMNIVIEW_H264(birdseye, 800x800, 26, 1, superfast);
 OMNIVIEW_H264(birdseye, 800x800, 23, 2, superfast);
 OMNIVIEW_H264(birdseye, 800x800, 30, 2, superfast);
 OMNIVIEW_H264(birdseye, 800x800, 26, 2, veryfast);
 OMNIVIEW_H264(birdseye, 800x800, 26, 2, ultrafast);
-BENCHMARK_CAPTURE(BM_Anchor_JpegSamePsnr, birdseye_800x800_grey_as_crf26, "birdseye", 26)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Anchor_JpegSamePsnr, birdseye_800x800_grey_as_crf26, "birdseye", 26)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace omniview

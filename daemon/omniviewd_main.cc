@@ -127,8 +127,8 @@ int main(int argc, char** argv) {
     for (const auto& v : daemon.pipeline().list_views()) std::cerr << " " << v.spec().name();
     std::cerr << std::endl;
     for (const auto& url : daemon.rtsp_urls()) {
-      std::cerr << "omniviewd: RTSP (H.264): " << url << (config.tokens.empty() ? "" : " (user omniview, a token as password)")
-                << std::endl;
+      std::cerr << "omniviewd: RTSP (H.264): " << url
+                << (config.tokens.empty() ? "" : " (user omniview, a token as password)") << std::endl;
     }
     // Not an error (nothing saved yet), but said: a path that resolves elsewhere than the
     // user thinks (it is relative to the config's folder) would otherwise lose views silently.

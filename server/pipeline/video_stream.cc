@@ -1,7 +1,6 @@
 #include "server/pipeline/video_stream.h"
 
 #include <algorithm>
-
 #include <opencv2/imgproc.hpp>
 
 namespace omniview {
@@ -16,7 +15,8 @@ bool VideoStream::take_turn(Clock::time_point now) {
   if (key_.rate_mhz > 0) {
     // As Subscriber::offer: from the nominal time, so jitter does not lower the rate, but
     // no backlog of turns after a pause.
-    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1000.0 / key_.rate_mhz));
+    const auto period =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1000.0 / key_.rate_mhz));
     next_due_ = std::max(next_due_ + period, now + period / 2);
   }
   return true;

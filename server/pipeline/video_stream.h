@@ -13,7 +13,6 @@
 #include <chrono>
 #include <memory>
 #include <mutex>
-
 #include <opencv2/core/mat.hpp>
 
 #include "server/pipeline/subscriber.h"

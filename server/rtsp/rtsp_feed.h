@@ -2,12 +2,12 @@
 // whose access units are pushed into the media's appsrc, on a thread of its own.
 #pragma once
 
+#include <gst/gst.h>
+
 #include <atomic>
 #include <memory>
 #include <string>
 #include <thread>
-
-#include <gst/gst.h>
 
 #include "server/pipeline/pipeline.h"
 

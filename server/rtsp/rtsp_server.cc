@@ -40,10 +40,10 @@ void init_gstreamer() {
     }
   });
   if (!error.empty()) throw std::runtime_error(error);
-  for (const auto& [element, package] : std::vector<std::pair<const char*, const char*>>{
-           {"appsrc", "gstreamer1.0-plugins-base"},
-           {"h264parse", "gstreamer1.0-plugins-bad"},
-           {"rtph264pay", "gstreamer1.0-plugins-good"}}) {
+  for (const auto& [element, package] :
+       std::vector<std::pair<const char*, const char*>>{{"appsrc", "gstreamer1.0-plugins-base"},
+                                                        {"h264parse", "gstreamer1.0-plugins-bad"},
+                                                        {"rtph264pay", "gstreamer1.0-plugins-good"}}) {
     GstElementFactory* factory = gst_element_factory_find(element);
     if (factory == nullptr) {
       throw std::runtime_error(std::string("RTSP needs GStreamer's '") + element + "' element: install " + package);
@@ -125,9 +125,9 @@ void RtspServer::Impl::mount(const std::string& view) {
   gst_rtsp_media_factory_set_shared(factory, FALSE);  // one media per client; the encoder is shared below it
   gst_rtsp_media_factory_set_latency(factory, 0);
   auto* ctx = new MountContext{&pipeline, view, key, rate_hz};
-  g_signal_connect_data(factory, "media-configure", G_CALLBACK(on_media_configure), ctx,
-                        [](gpointer data, GClosure*) { delete static_cast<MountContext*>(data); },
-                        GConnectFlags(0));
+  g_signal_connect_data(
+      factory, "media-configure", G_CALLBACK(on_media_configure), ctx,
+      [](gpointer data, GClosure*) { delete static_cast<MountContext*>(data); }, GConnectFlags(0));
   if (auth != nullptr) {
     gst_rtsp_media_factory_add_role(factory, kRole, GST_RTSP_PERM_MEDIA_FACTORY_ACCESS, G_TYPE_BOOLEAN, TRUE,
                                     GST_RTSP_PERM_MEDIA_FACTORY_CONSTRUCT, G_TYPE_BOOLEAN, TRUE, nullptr);

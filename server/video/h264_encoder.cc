@@ -3,10 +3,9 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <opencv2/imgproc.hpp>
 #include <stdexcept>
 #include <vector>
-
-#include <opencv2/imgproc.hpp>
 
 extern "C" {
 #include <x264.h>
@@ -43,9 +42,8 @@ void check(const H264Settings& s) {
   if (!(s.fps > 0 && s.fps <= 1000)) throw std::invalid_argument("H.264 frame rate must be in (0, 1000] Hz");
   if (!(s.crf >= 0 && s.crf <= 51)) throw std::invalid_argument("H.264 CRF must be 0..51");
   if (s.max_kbps != 0 && (s.max_kbps < kMinKbps || s.max_kbps > kMaxKbps)) {
-    throw std::invalid_argument("H.264 bitrate must be " + std::to_string(kMinKbps) + ".." +
-                                std::to_string(kMaxKbps) + " kbit/s (0: no ceiling), got " +
-                                std::to_string(s.max_kbps));
+    throw std::invalid_argument("H.264 bitrate must be " + std::to_string(kMinKbps) + ".." + std::to_string(kMaxKbps) +
+                                " kbit/s (0: no ceiling), got " + std::to_string(s.max_kbps));
   }
   if (s.threads < 1 || s.threads > 16) throw std::invalid_argument("H.264 encoder threads must be 1..16");
 }
@@ -109,7 +107,8 @@ H264Encoder::H264Encoder(const H264Settings& settings) : settings_(settings), x2
   if (x264_param_apply_profile(&p, "high") < 0) throw std::runtime_error("x264 refused the High profile");
   x264_->handle = x264_encoder_open(&p);
   if (x264_->handle == nullptr) {
-    throw std::runtime_error("cannot start the H.264 encoder (x264) for " + size_text(settings_.width, settings_.height) +
+    throw std::runtime_error("cannot start the H.264 encoder (x264) for " +
+                             size_text(settings_.width, settings_.height) +
                              (x264_->error.empty() ? "" : ": " + x264_->error));
   }
   x264_picture_init(&x264_->picture);

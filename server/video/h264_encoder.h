@@ -18,19 +18,18 @@
 
 #include <cstdint>
 #include <memory>
-#include <string>
-
 #include <opencv2/core/mat.hpp>
+#include <string>
 
 namespace omniview::video {
 
 struct H264Settings {
   int width = 0;
   int height = 0;
-  double fps = 15;       // the expected rate: VUI timing and the ceiling's per-frame budget
-  double crf = 26;       // constant rate factor, 0..51 (lower: better); the streams' default
-  int max_kbps = 0;      // > 0: a ceiling (VBV max rate, one-second buffer) over the CRF
-  int threads = 2;       // slice threads: the frame's own latency shrinks, none is added
+  double fps = 15;   // the expected rate: VUI timing and the ceiling's per-frame budget
+  double crf = 26;   // constant rate factor, 0..51 (lower: better); the streams' default
+  int max_kbps = 0;  // > 0: a ceiling (VBV max rate, one-second buffer) over the CRF
+  int threads = 2;   // slice threads: the frame's own latency shrinks, none is added
   // superfast: 2.4 ms a 640x480 frame where veryfast takes 5-6 ms on the 2-core box, for
   // ~1.7x the bits of veryfast at the same CRF (bench/README.md, h264_bench).
   std::string preset = "superfast";
@@ -76,7 +75,7 @@ class H264Encoder {
   std::unique_ptr<X264> x264_;
   cv::Mat yuv_;  // I420: Y, then U, then V planes, one buffer reused frame after frame
   int64_t last_pts_ = INT64_MIN;
-  double frame_rate_ = 0;  // what the ceiling is set for
+  double frame_rate_ = 0;           // what the ceiling is set for
   bool grey_chroma_ready_ = false;  // the U and V planes hold mid-grey already
 };
 

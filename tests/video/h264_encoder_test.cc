@@ -1,11 +1,12 @@
 // The H.264 wrapper (server/video) against a real decoder (libavcodec): sizes, grey and
 // colour pictures, key frames on request, the low-latency contract (every picture comes out
 // of its own call) and the bitrate ceiling.
+#include "server/video/h264_encoder.h"
+
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
 
-#include "server/video/h264_encoder.h"
 #include "tests/video/h264_decoder.h"
 
 namespace omniview::testing {
@@ -21,7 +22,8 @@ cv::Mat scene(int width, int height, int t, bool colour) {
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const int u = x + 3 * t;
-      img.at<cv::Vec3b>(y, x) = {static_cast<uint8_t>((u * 2 + y) & 0xff), static_cast<uint8_t>(((u / 16 + y / 16) % 2) * 160 + 40),
+      img.at<cv::Vec3b>(y, x) = {static_cast<uint8_t>((u * 2 + y) & 0xff),
+                                 static_cast<uint8_t>(((u / 16 + y / 16) % 2) * 160 + 40),
                                  static_cast<uint8_t>(128 + 100 * std::sin(u * 0.05) * std::cos(y * 0.04))};
     }
   }
@@ -138,14 +140,13 @@ TEST(H264Encoder, KeyFrameOnRequestCarriesSpsAndPps) {
 }
 
 TEST(H264Encoder, OddAndAbsurdSizesAreRefusedClearly) {
-  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{641, 480}, {640, 479}, {1, 1}, {0, 480}, {-2, 2},
-                                                             {16384, 16}, {640, 100000}}) {
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{
+           {641, 480}, {640, 479}, {1, 1}, {0, 480}, {-2, 2}, {16384, 16}, {640, 100000}}) {
     try {
       H264Encoder encoder(settings(w, h));
       ADD_FAILURE() << w << "x" << h << " accepted";
     } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find(std::to_string(w) + "x" + std::to_string(h)), std::string::npos)
-          << e.what();
+      EXPECT_NE(std::string(e.what()).find(std::to_string(w) + "x" + std::to_string(h)), std::string::npos) << e.what();
     }
   }
 }

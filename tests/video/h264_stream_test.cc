@@ -9,8 +9,8 @@
 #include <cmath>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <mutex>
+#include <sstream>
 #include <thread>
 
 #include "tests/server/daemon_process.h"
@@ -34,18 +34,19 @@ class H264Stream : public ::testing::Test {
     dir_ = new TempDir;
     mock_ = new SpotMockProcess(dir_->path(), {"--scene", "room", "--supersample", "1"});
     std::ostringstream config;
-    config << "listen: 127.0.0.1:0\n"
-           << "sources:\n"
-           << "  - {name: spot, type: spot, robot: 127.0.0.1:" << mock_->port() << ", ca_file: " << mock_->certs_dir()
-           << "/ca.pem, credentials_file: " << mock_->credentials_file() << ", rate_hz: 15}\n"
-           << "views:\n"
-           // The shipped front view at 640x480, and the shipped bird's-eye view.
-           << "  - {name: front, type: perspective, source: spot, width: 640, height: 480, frame: body,\n"
-           << "     pose: {xyz: [0.42, 0, 0], ypr_deg: [0, 27, 0]}, hfov_deg: 115, distance: 3.0, fusion: blend}\n"
-           << "  - {name: birdseye, type: birdseye, source: spot, width: 800, height: 800, frame: footprint,\n"
-           << "     pose: {ypr_deg: [0, 90, 0]}, height_m: 3.0, hfov_deg: 110, fusion: blend}\n"
-           << "  - {name: odd, type: perspective, source: spot, width: 641, height: 480, frame: body, hfov_deg: 90}\n"
-           << "  - {name: resized, type: perspective, source: spot, width: 320, height: 240, frame: body, hfov_deg: 90}\n";
+    config
+        << "listen: 127.0.0.1:0\n"
+        << "sources:\n"
+        << "  - {name: spot, type: spot, robot: 127.0.0.1:" << mock_->port() << ", ca_file: " << mock_->certs_dir()
+        << "/ca.pem, credentials_file: " << mock_->credentials_file() << ", rate_hz: 15}\n"
+        << "views:\n"
+        // The shipped front view at 640x480, and the shipped bird's-eye view.
+        << "  - {name: front, type: perspective, source: spot, width: 640, height: 480, frame: body,\n"
+        << "     pose: {xyz: [0.42, 0, 0], ypr_deg: [0, 27, 0]}, hfov_deg: 115, distance: 3.0, fusion: blend}\n"
+        << "  - {name: birdseye, type: birdseye, source: spot, width: 800, height: 800, frame: footprint,\n"
+        << "     pose: {ypr_deg: [0, 90, 0]}, height_m: 3.0, hfov_deg: 110, fusion: blend}\n"
+        << "  - {name: odd, type: perspective, source: spot, width: 641, height: 480, frame: body, hfov_deg: 90}\n"
+        << "  - {name: resized, type: perspective, source: spot, width: 320, height: 240, frame: body, hfov_deg: 90}\n";
     daemon_ = new DaemonProcess(*dir_, config.str());
   }
   static void TearDownTestSuite() {
@@ -102,9 +103,7 @@ class VideoClient {
     return status_;
   }
   void stall() { stalled_ = true; }
-  void resume() {
-    stalled_ = false;
-  }
+  void resume() { stalled_ = false; }
   std::vector<Received> frames() const {
     std::lock_guard lock(mutex_);
     return frames_;
@@ -334,7 +333,8 @@ TEST_F(H264Stream, AddsLessThanAFrameIntervalOfLatencyOverJpeg) {
   std::vector<double> extra_ms;
   for (const auto& f : video.frames()) {
     const auto it = jpeg_arrivals.find(f.sequence);
-    if (it != jpeg_arrivals.end()) extra_ms.push_back(std::chrono::duration<double, std::milli>(f.arrival - it->second).count());
+    if (it != jpeg_arrivals.end())
+      extra_ms.push_back(std::chrono::duration<double, std::milli>(f.arrival - it->second).count());
   }
   ASSERT_GE(extra_ms.size(), 30u);
   std::sort(extra_ms.begin(), extra_ms.end());
@@ -344,9 +344,10 @@ TEST_F(H264Stream, AddsLessThanAFrameIntervalOfLatencyOverJpeg) {
 }
 
 TEST_F(H264Stream, TheClisPipeIsAnH264StreamThatFfprobeReads) {
-  if (std::system("command -v ffprobe > /dev/null") != 0) GTEST_SKIP() << "ffprobe is not installed (apt-get install ffmpeg)";
-  const auto r = run_process(std::string(OMNIVIEW_CLI) + " stream front --encoding h264 --gray --frames 20 -o - --server " +
-                             daemon_->address() +
+  if (std::system("command -v ffprobe > /dev/null") != 0)
+    GTEST_SKIP() << "ffprobe is not installed (apt-get install ffmpeg)";
+  const auto r = run_process(std::string(OMNIVIEW_CLI) +
+                             " stream front --encoding h264 --gray --frames 20 -o - --server " + daemon_->address() +
                              " 2>/dev/null | ffprobe -v error -count_frames -show_entries "
                              "stream=codec_name,width,height,nb_read_frames -of csv=p=0 -");
   EXPECT_EQ(r.exit_code, 0) << r.output;

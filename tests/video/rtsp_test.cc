@@ -3,7 +3,6 @@
 // views created and deleted through the API appearing and going, and the exposure rule on
 // the RTSP address.
 #include <gtest/gtest.h>
-
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -38,8 +37,8 @@ bool have_ffprobe() { return std::system("command -v ffprobe > /dev/null") == 0;
 ProcessResult probe(const std::string& url, double seconds = 1.5) {
   std::ostringstream cmd;
   const bool tls = url.rfind("rtsps:", 0) == 0;  // RTSPS is TCP only
-  cmd << "timeout " << static_cast<int>(15 * test_time_scale()) << " ffprobe -v error" << (tls ? "" : " -rtsp_transport tcp")
-      << " -count_frames"
+  cmd << "timeout " << static_cast<int>(15 * test_time_scale()) << " ffprobe -v error"
+      << (tls ? "" : " -rtsp_transport tcp") << " -count_frames"
       << " -read_intervals %+" << seconds << " -show_entries stream=codec_name,width,height,r_frame_rate,nb_read_frames"
       << " -of csv=p=0 '" << url << "' 2>&1";
   return run_process(cmd.str());
@@ -116,8 +115,8 @@ TEST(Rtsp, TheApisTokensAreTheCredentialsAndWrongOnesAreRefused) {
   DaemonProcess daemon(dir, example_config(15, kViews + "tokens:\n  - {role: viewer, token: " + viewer +
                                                    "}\nrtsp: {listen: 127.0.0.1:" + std::to_string(port) + "}\n"));
   const std::string host = "127.0.0.1:" + std::to_string(port) + "/front";
-  for (const std::string& url : {"rtsp://" + host, "rtsp://omniview:wrong-token@" + host,
-                                 "rtsp://someone:" + viewer + "@" + host}) {
+  for (const std::string& url :
+       {"rtsp://" + host, "rtsp://omniview:wrong-token@" + host, "rtsp://someone:" + viewer + "@" + host}) {
     const auto r = probe(url, 1);
     EXPECT_NE(r.exit_code, 0) << url << ": " << r.output;
     EXPECT_NE(r.output.find("401"), std::string::npos) << url << ": " << r.output;
@@ -132,13 +131,16 @@ TEST(Rtsp, WithTlsItSpeaksRtspsOnAnAddressOthersReach) {
   if (!have_ffprobe()) GTEST_SKIP() << "ffprobe is not installed (apt-get install ffmpeg)";
   TempDir dir;
   const auto certs = dir.path() / "certs";
-  ASSERT_EQ(std::system(("bash " OMNIVIEW_SOURCE_DIR "/scripts/make-test-certs.sh " + certs.string() + " > /dev/null").c_str()), 0);
+  ASSERT_EQ(std::system(
+                ("bash " OMNIVIEW_SOURCE_DIR "/scripts/make-test-certs.sh " + certs.string() + " > /dev/null").c_str()),
+            0);
   const int port = free_port();
   const std::string viewer = "viewer-token-8d2e61b0c4a95f37";
   // A wildcard address: allowed because tls and tokens guard it.
-  DaemonProcess daemon(dir, example_config(15, kViews + "tls: {cert: " + (certs / "server.crt").string() + ", key: " +
-                                                   (certs / "server.key").string() + "}\ntokens:\n  - {role: viewer, token: " +
-                                                   viewer + "}\nrtsp: {listen: 0.0.0.0:" + std::to_string(port) + "}\n"));
+  DaemonProcess daemon(dir, example_config(15, kViews + "tls: {cert: " + (certs / "server.crt").string() +
+                                                   ", key: " + (certs / "server.key").string() +
+                                                   "}\ntokens:\n  - {role: viewer, token: " + viewer +
+                                                   "}\nrtsp: {listen: 0.0.0.0:" + std::to_string(port) + "}\n"));
   EXPECT_NE(daemon.log().find("rtsps://HOST:" + std::to_string(port) + "/front"), std::string::npos) << daemon.log();
   const auto r = probe("rtsps://omniview:" + viewer + "@127.0.0.1:" + std::to_string(port) + "/front", 1);
   EXPECT_EQ(r.exit_code, 0) << r.output;
@@ -176,8 +178,7 @@ TEST(Rtsp, ViewsCreatedAndDeletedThroughTheApiComeAndGo) {
 
 TEST(Rtsp, AnAddressOthersReachNeedsTlsAndTokensAsTheApiDoes) {
   TempDir dir;
-  const std::string config =
-      dir.write("open.yaml", example_config(15, kViews + "rtsp: {listen: 0.0.0.0:8554}\n"));
+  const std::string config = dir.write("open.yaml", example_config(15, kViews + "rtsp: {listen: 0.0.0.0:8554}\n"));
   const auto r = run_process(std::string(OMNIVIEWD) + " --check --config " + config + " 2>&1");
   EXPECT_NE(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("rtsp.listen"), std::string::npos) << r.output;
