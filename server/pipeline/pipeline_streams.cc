@@ -16,13 +16,16 @@ std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const s
   auto view = find_view(name);
   std::shared_ptr<Subscriber> s;
   if (key.encoding == v1::H264) {
-    // Refused up front rather than ending the stream at its first frame.
-    const auto& spec = view->state()->spec;
-    if (spec.width % 2 != 0 || spec.height % 2 != 0) {
-      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
-                     "H264 needs an even width and height (4:2:0 chroma): view '" + name + "' is " +
-                         std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                         "; resize it by one pixel or use JPEG");
+    // Refused up front (an odd or too large size) rather than ending the stream at its
+    // first frame.
+    const auto state = view->state();
+    video::H264Settings settings;
+    settings.width = state->spec.width;
+    settings.height = state->spec.height;
+    try {
+      video::check(settings);
+    } catch (const std::invalid_argument& e) {
+      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "view '" + name + "': " + e.what());
     }
     key.rate_mhz = static_cast<int>(std::lround(max_rate_hz * 1000));
     s = std::make_shared<Subscriber>(peer, key, view->join_video(key), stale_frames);
