@@ -300,7 +300,8 @@ TEST_F(H264Stream, AStalledClientResumesAtAKeyFrameWithoutHurtingOthers) {
   // The steady client went on at the source's rate meanwhile, and the stalled one did not
   // turn its stream into key frames (the stalled one asks for one only once it reads again).
   const auto steady_frames = steady.frames();
-  EXPECT_GT(steady_frames.size() - steady_before, 50u);  // 5 s at 15 Hz
+  // 5 s at 15 Hz: 75 frames in a release build (fewer where the sanitizers slow the render).
+  EXPECT_GT(steady_frames.size() - steady_before, 50 / test_time_scale());
   int keys = 0;
   for (size_t i = steady_before; i < steady_frames.size(); ++i) keys += steady_frames[i].key_frame ? 1 : 0;
   EXPECT_LE(keys, 3);
