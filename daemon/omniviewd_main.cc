@@ -126,6 +126,10 @@ int main(int argc, char** argv) {
               << (config.tokens.empty() ? ", no tokens)" : ", tokens required)") << "; views:";
     for (const auto& v : daemon.pipeline().list_views()) std::cerr << " " << v.spec().name();
     std::cerr << std::endl;
+    for (const auto& url : daemon.rtsp_urls()) {
+      std::cerr << "omniviewd: RTSP (H.264): " << url
+                << (config.tokens.empty() ? "" : " (user omniview, a token as password)") << std::endl;
+    }
     // Not an error (nothing saved yet), but said: a path that resolves elsewhere than the
     // user thinks (it is relative to the config's folder) would otherwise lose views silently.
     if (std::error_code ec; !config.views_file.empty() && !std::filesystem::exists(config.views_file, ec)) {

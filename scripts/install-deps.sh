@@ -11,6 +11,11 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   liburdfdom-dev liburdfdom-headers-dev libassimp-dev libosmesa6-dev
   libturbojpeg0-dev
+  libx264-dev      # H.264 streams (server/video)
+  libavcodec-dev   # the video tests decode what the daemon sends (tests/video only)
+  ffmpeg           # ffprobe: the video tests read the CLI's H.264 pipe and RTSP as players do
+  libgstrtspserver-1.0-dev libgstreamer-plugins-base1.0-dev  # RTSP (server/rtsp): the server library, appsrc
+  gstreamer1.0-plugins-good gstreamer1.0-plugins-bad         # ... rtph264pay, h264parse
   dpkg-dev systemd  # cpack -G DEB (dpkg-shlibdeps) and systemd-analyze verify: scripts/check-install.sh
 )
 

@@ -17,13 +17,23 @@ v1::Encoding encoding_from_name(const std::string& name, const std::string& what
   if (n == "jpg" || n == "jpeg") return v1::JPEG;
   if (n == "png") return v1::PNG;
   if (n == "raw") return v1::RAW;
-  throw UsageError(what + ": '" + name + "' is not an encoding (jpg, png or raw)");
+  if (n == "h264" || n == "264") return v1::H264;
+  throw UsageError(what + ": '" + name + "' is not an encoding (jpg, png, raw or h264)");
 }
 
 v1::Encoding encoding_for_path(const std::string& path) {
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext.empty()) throw UsageError("'" + path + "': name the file .png, .jpg or .raw to choose the encoding");
-  return encoding_from_name(ext.substr(1), "'" + path + "'");
+  // One file is one still image: a video stream is `omniview stream --encoding h264`.
+  v1::Encoding encoding = v1::ENCODING_UNSPECIFIED;
+  try {
+    encoding = encoding_from_name(ext.substr(1), "'" + path + "'");
+  } catch (const UsageError&) {
+  }
+  if (encoding == v1::ENCODING_UNSPECIFIED || encoding == v1::H264) {
+    throw UsageError("'" + path + "': '" + ext.substr(1) + "' is not an image encoding (jpg, png or raw)");
+  }
+  return encoding;
 }
 
 std::string extension_for(v1::Encoding encoding) {
@@ -32,6 +42,8 @@ std::string extension_for(v1::Encoding encoding) {
       return "png";
     case v1::RAW:
       return "raw";
+    case v1::H264:
+      return "h264";
     default:
       return "jpg";
   }
@@ -46,7 +58,10 @@ void write_frame(const std::string& path, const v1::Frame& frame) {
 
 std::string describe_frame(const v1::Frame& frame) {
   const std::string colour = frame.channels() == 1 ? " gray" : frame.channels() == 3 ? " RGB" : "";
-  const std::string encoding = frame.encoding() == v1::PNG ? "PNG" : frame.encoding() == v1::RAW ? "RAW" : "JPEG";
+  const std::string encoding = frame.encoding() == v1::PNG    ? "PNG"
+                               : frame.encoding() == v1::RAW  ? "RAW"
+                               : frame.encoding() == v1::H264 ? (frame.key_frame() ? "H.264 key frame" : "H.264")
+                                                              : "JPEG";
   return std::to_string(frame.width()) + "x" + std::to_string(frame.height()) + colour + " " + encoding + ", " +
          fixed(frame.data().size() / 1024.0, 1) + " KB";
 }
@@ -56,7 +71,7 @@ std::string describe_frame(const v1::Frame& frame) {
 namespace omniview::cli {
 
 const std::vector<std::string>& stream_flags() {
-  static const std::vector<std::string> flags{"encoding", "rate", "quality"};
+  static const std::vector<std::string> flags{"encoding", "rate", "quality", "bitrate"};
   return flags;
 }
 
@@ -66,10 +81,12 @@ const std::vector<std::string>& stream_switches() {
 }
 
 const char* stream_help() {
-  return R"(  --encoding E       jpg, png or raw (frames as the daemon sends them)
+  return R"(  --encoding E       jpg, png, raw or h264 (frames as the daemon sends them)
   --rate HZ          at most this many frames per second (default: as the source delivers)
   --gray             one channel even when some camera is colour
-  --quality Q        JPEG quality 1..100 (default 85)
+  --quality Q        1..100: JPEG quality (default 85); for h264 the constant rate factor
+                     CRF = 51 - Q/2 (default 50: CRF 26)
+  --bitrate KBPS     h264: a ceiling in kbit/s (50..100000) over the quality (default none)
 )";
 }
 
@@ -82,6 +99,12 @@ v1::StreamFramesRequest stream_request(const Args& args, const std::string& view
     const int quality = parse_count(args.get("quality"), "--quality");
     if (quality > 100) throw UsageError("--quality: expected 1..100");
     request.set_quality(quality);
+  }
+  if (args.has("bitrate")) {
+    if (request.encoding() != v1::H264) throw UsageError("--bitrate: only with --encoding h264");
+    const int kbps = parse_count(args.get("bitrate"), "--bitrate");
+    if (kbps < 50 || kbps > 100000) throw UsageError("--bitrate: expected 50..100000 kbit/s");
+    request.set_max_bitrate_kbps(kbps);
   }
   request.set_gray(args.has("gray") || args.has("grey"));
   request.set_stale_frames(true);  // every command says when the picture is not live (StaleNotice)

@@ -73,7 +73,10 @@ int show_command(const std::vector<std::string>& argv) {
   expect_positional(*args, 1, "VIEW");
   const double step = args->has("step") ? parse_positive(args->get("step"), "--step") : 5;
   auto request = stream_request(*args, args->positional()[0], v1::JPEG);
-  if (request.encoding() == v1::RAW) throw UsageError("--encoding: show decodes jpg or png");
+  if (request.encoding() == v1::RAW || request.encoding() == v1::H264) {
+    throw UsageError(
+        "--encoding: show decodes jpg or png (for h264: omniview stream VIEW --encoding h264 -o - | ffplay -)");
+  }
   const std::string instead =
       "over ssh use 'ssh -X', or pipe the view into a player: omniview stream " + request.view() + " -o - | ffplay -f mjpeg -";
   if (!has_display()) {

@@ -45,6 +45,9 @@ int snapshot_command(const std::vector<std::string>& argv) {
   request.set_encoding(!to_stdout               ? encoding_for_path(output)
                        : args->has("encoding") ? encoding_from_name(args->get("encoding"), "--encoding")
                                                : v1::JPEG);
+  if (request.encoding() == v1::H264) {
+    throw UsageError("a snapshot is one still image: jpg, png or raw (h264 is for `omniview stream`)");
+  }
   request.set_gray(args->has("gray") || args->has("grey"));
   if (args->has("quality")) {
     const int quality = parse_count(args->get("quality"), "--quality");

@@ -1,5 +1,6 @@
 // `omniview stream VIEW --frames N -o DIR`: frames of a view saved as files, with an index;
-// `-o -`: the frames one after another on stdout (concatenated JPEGs are MJPEG for a pipe).
+// `-o -`: the frames one after another on stdout (concatenated JPEGs are MJPEG for a pipe,
+// concatenated H.264 access units a raw H.264 elementary stream).
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -19,15 +20,21 @@ namespace {
 const std::string kStreamHelp =
     std::string(R"(usage: omniview stream VIEW --frames N -o DIR [--encoding E] [--rate HZ] [--gray]
        omniview stream VIEW -o - [--frames N] | ffplay -f mjpeg -
+       omniview stream VIEW --encoding h264 -o - | ffplay -
 
 Saves N frames of a view as DIR/frame_000001.jpg, ... (the daemon's encoded bytes) and
 DIR/frames.csv: file, sequence, capture time (UTC), latency (ms), size, view revision.
-Ctrl-C stops early and keeps what was written.
+With --encoding h264 the frames go into one file, DIR/stream.h264 (a raw H.264 elementary
+stream, starting at a key frame; `ffplay DIR/stream.h264`, or `ffmpeg -i DIR/stream.h264
+-c copy out.mp4`), and frames.csv also gives each frame's byte offset, size and whether it
+is a key frame. Ctrl-C stops early and keeps what was written.
 
 With -o - the frames go to stdout one after another, nothing between them: JPEG frames
-make an MJPEG stream that `ffplay -f mjpeg -`, `mpv -` or `ffmpeg -f mjpeg -i -` read
-(PNG frames: `ffplay -f png_pipe -`; raw frames have no framing and are refused). It runs
-until --frames N, Ctrl-C or the reader closes the pipe; messages go to stderr.
+make an MJPEG stream that `ffplay -f mjpeg -`, `mpv -` or `ffmpeg -f mjpeg -i -` read;
+H.264 frames a raw H.264 stream that `ffplay -`, `mpv -` or `ffprobe -` read, low-latency
+with `ffplay -fflags nobuffer -flags low_delay -framedrop -` (PNG frames: `ffplay -f
+png_pipe -`; raw frames have no framing and are refused). It runs until --frames N,
+Ctrl-C or the reader closes the pipe; messages go to stderr.
 
   --frames N         how many frames (optional with -o -)
   -o, --output DIR   the folder (created if missing; one with files in it is refused),
@@ -61,8 +68,11 @@ int stream_to_stdout(const Args& args, int wanted) {
   int written = 0;
   bool reader_gone = false;
   StaleNotice stale(request.view());
+  const bool video = request.encoding() == v1::H264;
   while ((wanted == 0 || written < wanted) && reader->Read(&frame)) {
-    if (stale.check(frame)) continue;  // the player keeps showing the last picture
+    // The player keeps showing the last picture; a video stream's frames are all needed
+    // (each is coded against the one before), stale or not.
+    if (stale.check(frame) && !video) continue;
     if (written == 0) print_stream_note(context);
     const std::string& data = frame.data();
     if (std::fwrite(data.data(), 1, data.size(), stdout) != data.size() || std::fflush(stdout) != 0) {
@@ -108,6 +118,7 @@ int stream_command(const std::vector<std::string>& argv) {
                      "' is not empty: choose another folder, or pass --force to replace the frames in it");
   }
   const auto request = stream_request(*args, args->positional()[0], v1::JPEG);
+  const bool video = request.encoding() == v1::H264;
 
   Connection connection(connection_options(*args));
   grpc::ClientContext context;
@@ -117,22 +128,40 @@ int stream_command(const std::vector<std::string>& argv) {
   v1::Frame frame;
   int written = 0;
   std::ofstream csv;
+  std::ofstream stream_file;  // H.264: every frame into one elementary stream
+  uint64_t offset = 0;
+  const std::string stream_name = "stream.h264";
   StaleNotice stale(request.view());
   while (written < wanted && reader->Read(&frame)) {
-    if (stale.check(frame)) continue;  // not a new image
+    // Not a new image; but a video stream needs every frame, and counts it.
+    if (stale.check(frame) && !video) continue;
     if (written == 0) {  // only now: a wrong view name or a refused call leaves nothing behind
       print_stream_note(context);
       std::filesystem::create_directories(folder);
       csv.open(folder / "frames.csv", std::ios::trunc);
       if (!csv) throw std::runtime_error("cannot write '" + (folder / "frames.csv").string() + "'");
-      csv << "file,sequence,capture_time,capture_time_s,latency_ms,width,height,channels,revision\n";
+      csv << "file,sequence,capture_time,capture_time_s,latency_ms,width,height,channels,revision"
+          << (video ? ",offset,bytes,key_frame" : "") << "\n";
+      if (video) {
+        stream_file.open(folder / stream_name, std::ios::binary | std::ios::trunc);
+        if (!stream_file) throw std::runtime_error("cannot write '" + (folder / stream_name).string() + "'");
+      }
     }
-    const std::string name = frame_file_name(written + 1, frame.encoding());
-    write_frame((folder / name).string(), frame);
+    std::string name = stream_name;
+    if (video) {
+      stream_file.write(frame.data().data(), static_cast<std::streamsize>(frame.data().size()));
+      stream_file.flush();
+      if (!stream_file) throw std::runtime_error("cannot write '" + (folder / stream_name).string() + "'");
+    } else {
+      name = frame_file_name(written + 1, frame.encoding());
+      write_frame((folder / name).string(), frame);
+    }
     csv << name << "," << frame.sequence() << "," << format_time(frame.capture_time()) << ","
         << fixed(to_seconds(frame.capture_time()), 6) << "," << fixed(frame.latency_ms(), 3) << "," << frame.width()
-        << "," << frame.height() << "," << frame.channels() << "," << frame.camera().revision() << "\n"
-        << std::flush;  // a stream cut short keeps a complete index
+        << "," << frame.height() << "," << frame.channels() << "," << frame.camera().revision();
+    if (video) csv << "," << offset << "," << frame.data().size() << "," << (frame.key_frame() ? 1 : 0);
+    csv << "\n" << std::flush;  // a stream cut short keeps a complete index
+    offset += frame.data().size();
     ++written;
   }
   if (written == wanted) stopper.stop();  // the daemon ends the call when it sees the cancel
@@ -141,7 +170,8 @@ int stream_command(const std::vector<std::string>& argv) {
   // The summary first, also when the stream failed (daemon shutting down, source gone):
   // what was written stays usable.
   if (written > 0 || !failed) {
-    std::cout << "wrote " << written << " frame" << (written == 1 ? "" : "s") << " to " << folder.string() << "/";
+    std::cout << "wrote " << written << " frame" << (written == 1 ? "" : "s") << " to " << folder.string() << "/"
+              << (video && written > 0 ? stream_name : "");
     if (written < wanted) {
       std::cout << " (" << (stopper.interrupted() ? "interrupted" : "the stream ended") << " before " << wanted << ")";
     }

@@ -145,7 +145,7 @@ grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::S
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
-    const EncodingKey key = encoding_key(req->encoding(), req->quality(), req->gray());
+    const EncodingKey key = encoding_key(req->encoding(), req->quality(), req->gray(), req->max_bitrate_kbps());
     if (!(req->max_rate_hz() >= 0)) {
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "max_rate_hz must be >= 0 (0: as fast as frames come)");
     }
@@ -193,6 +193,10 @@ grpc::Status OmniviewService::GetSnapshot(grpc::ServerContext* ctx, const v1::Sn
   OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
+    if (req->encoding() == v1::H264) {
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                          "a snapshot is a still: use JPEG, PNG or RAW (H264 is for StreamFrames)");
+    }
     const EncodingKey key = encoding_key(req->encoding(), req->quality(), req->gray());
     constexpr int kMaxSnapshotWaitMs = 60000;
     if (req->timeout_ms() < 0 || req->timeout_ms() > kMaxSnapshotWaitMs) {

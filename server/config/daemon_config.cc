@@ -48,6 +48,18 @@ void check_listen_exposure(const DaemonConfig& config, const HostResolver& resol
   r.fail(listen ? listen : r.root(), "listen", refusal);
 }
 
+void check_rtsp_exposure(const DaemonConfig& config, const HostResolver& resolve) {
+  if (!config.rtsp) return;
+  const EndpointGuards endpoint{config.rtsp->listen, config.tls.has_value(), !config.tokens.empty(),
+                                config.allow_insecure_remote};
+  const std::string refusal = exposure_refusal(endpoint, resolve);
+  if (refusal.empty()) return;
+  if (!config.reader) throw ConfigError(config.file + ": rtsp.listen: " + refusal);
+  const YamlReader& r = *config.reader;
+  const YAML::Node rtsp = r.root()["rtsp"];
+  r.fail(rtsp && rtsp["listen"] ? rtsp["listen"] : r.root(), "rtsp.listen", refusal);
+}
+
 DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& folder, const ListenOptions& options) {
   using namespace config_parts;
   const auto shared = std::make_shared<const YamlReader>(reader);
@@ -55,7 +67,7 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   const YAML::Node root = r.root();
   if (!root.IsMap()) r.fail(root, "", "expected a map with listen, sources, views, ...");
   r.expect_keys(root, "", {"listen", "tls", "tokens", "allow_insecure_remote", "limits", "sources", "views",
-                          "robot_models", "views_file"});
+                          "robot_models", "views_file", "rtsp"});
 
   DaemonConfig config;
   config.file = r.file();
@@ -80,7 +92,9 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   config.robot_models = parse_robot_models(r, root["robot_models"], config.sources, folder);
   apply_listen_override(config, options.env, kListenEnv);
   apply_listen_override(config, options.flag, "--listen");
+  if (const YAML::Node rtsp = root["rtsp"]; rtsp && !rtsp.IsNull()) config.rtsp = parse_rtsp(r, rtsp, config.limits);
   check_listen_exposure(config, options.resolve);
+  check_rtsp_exposure(config, options.resolve);
   return config;
 }
 

@@ -13,6 +13,7 @@
 //   views:                                            # the view YAML schema, plus `source`
 //     - {name: front, type: perspective, ...}
 //   views_file: saved_views.yaml                      # optional: `omniview views save` output
+//   rtsp: {listen: 127.0.0.1:8554, quality: 0, max_bitrate_kbps: 0, max_rate_hz: 0}  # optional
 //   robot_models:                                     # optional: the robot drawn into views
 //     - {source: spot, urdf: robot.urdf, mesh_path: [meshes], frame: body, joints: {...}}
 //
@@ -79,6 +80,15 @@ struct RobotModelEntry {
   std::string path;  // e.g. "robot_models[0]"
 };
 
+// `rtsp:` — every view also as rtsp://HOST:PORT/VIEW (server/rtsp), H.264 from the same
+// shared encoders as gRPC's H264 streams. Off unless the block is there.
+struct RtspConfig {
+  std::string listen = "127.0.0.1:8554";  // host:port (port 0: a free one, for tests)
+  int quality = 0;                         // as StreamFramesRequest.quality for H264 (0: default)
+  int max_bitrate_kbps = 0;                // as StreamFramesRequest.max_bitrate_kbps (0: none)
+  double max_rate_hz = 0;                  // 0: as the source delivers (within limits.max_rate_hz)
+};
+
 struct DaemonConfig {
   std::string file;    // the config file, for messages
   std::string folder;  // relative paths resolve against it
@@ -95,6 +105,7 @@ struct DaemonConfig {
   // `views_file:` (resolved; empty: none): views saved with `omniview views save`, loaded
   // over `views` at start (same name: the file's wins). A file not there yet is no error.
   std::string views_file;
+  std::optional<RtspConfig> rtsp;
 };
 
 // Where the listen address may come from besides the file, strongest first: the --listen
@@ -120,6 +131,8 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
 // line or the override it came from. Throws ConfigError. Config loading and the daemon's
 // start both call it (an address's reach can change between the two: a folder's mode).
 void check_listen_exposure(const DaemonConfig& config, const HostResolver& resolve = {});
+// The same rule on `rtsp.listen` (the same tls and tokens guard it), blaming that line.
+void check_rtsp_exposure(const DaemonConfig& config, const HostResolver& resolve = {});
 
 // --- Additions -------------------------------------------------------------------------
 // Paths in TlsConfig are stored resolved against the config's folder.

@@ -56,6 +56,7 @@ Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
   // The exposure rule once more where the address is used: --check and a start ask it alike,
   // whoever built the config.
   check_listen_exposure(config_);
+  check_rtsp_exposure(config_);
   PipelineLimits limits;
   limits.max_view_pixels = config_.limits.max_view_pixels;
   limits.max_views = config_.limits.max_views;
@@ -138,7 +139,18 @@ Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
   server_->GetHealthCheckService()->SetServingStatus(v1::Omniview::service_full_name(), true);
   address_ = with_port(config_.listen, port);
   pipeline_->start();
+  if (config_.rtsp) {
+    try {
+      rtsp_ = std::make_unique<RtspServer>(config_, *pipeline_);
+    } catch (const std::exception& e) {
+      shutdown();
+      const YAML::Node rtsp = reader.root()["rtsp"];
+      reader.fail(rtsp ? rtsp : reader.root(), "rtsp", e.what());
+    }
+  }
 }
+
+std::vector<std::string> Daemon::rtsp_urls() const { return rtsp_ ? rtsp_->urls() : std::vector<std::string>{}; }
 
 Daemon::~Daemon() { shutdown(); }
 
@@ -146,6 +158,7 @@ void Daemon::shutdown(std::chrono::milliseconds grace) {
   if (shut_down_) return;
   shut_down_ = true;
   if (server_) server_->GetHealthCheckService()->Shutdown();  // health: NOT_SERVING from now on
+  if (rtsp_) rtsp_->stop();  // its clients' feeds leave the pipeline first
   // Streams end first (their handlers return UNAVAILABLE), so Shutdown has little to wait for.
   pipeline_->stop("omniviewd is shutting down");
   if (server_) {

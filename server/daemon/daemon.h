@@ -11,6 +11,7 @@
 #include "server/auth/authenticator.h"
 #include "server/config/daemon_config.h"
 #include "server/pipeline/pipeline.h"
+#include "server/rtsp/rtsp_server.h"
 
 namespace omniview {
 
@@ -27,6 +28,8 @@ class Daemon {
   // The address actually listened on (a config port of 0 picks a free one: tests).
   const std::string& address() const { return address_; }
   Pipeline& pipeline() { return *pipeline_; }
+  // With an `rtsp:` block: each view's rtsp:// URL now (empty without).
+  std::vector<std::string> rtsp_urls() const;
 
   // Ends streams with UNAVAILABLE "omniviewd is shutting down", stops accepting calls,
   // waits up to `grace` for calls in flight, stops the sources. Idempotent.
@@ -38,6 +41,7 @@ class Daemon {
   std::unique_ptr<Authenticator> auth_;
   std::unique_ptr<OmniviewService> service_;
   std::unique_ptr<grpc::Server> server_;
+  std::unique_ptr<RtspServer> rtsp_;
   std::string address_;
   bool shut_down_ = false;
 };

@@ -6,6 +6,7 @@
 #include <google/protobuf/util/time_util.h>
 
 #include "server/pipeline/frame_encoder.h"
+#include "server/pipeline/video_stream.h"
 
 namespace omniview {
 
@@ -21,7 +22,7 @@ google::protobuf::Timestamp to_timestamp(std::chrono::system_clock::time_point t
 }  // namespace
 
 void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& rendered, const EncodingKey& key,
-                      const std::vector<std::shared_ptr<Subscriber>>& subscribers) {
+                      const std::vector<std::shared_ptr<Subscriber>>& subscribers, VideoStream* video) {
   auto frame = std::make_shared<v1::Frame>();
   try {
     frame->set_view(state.spec.name);
@@ -33,7 +34,24 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
       frame->set_stale(true);
       frame->set_stale_reason(rendered.stale_reason);
     }
-    encode_frame(rendered.image, key, *frame);
+    if (key.encoding == v1::H264) {
+      if (video == nullptr) throw std::logic_error("an H.264 frame without its group's encoder");
+      auto au = video->encode(rendered.image, rendered.arrival);
+      frame->set_encoding(v1::H264);
+      frame->set_width(rendered.image.cols);
+      frame->set_height(rendered.image.rows);
+      frame->set_channels(key.gray || rendered.image.channels() == 1 ? 1 : 3);
+      frame->set_key_frame(au.key_frame);
+      frame->set_data(std::move(au.data));
+    } else {
+      encode_frame(rendered.image, key, *frame);
+    }
+  } catch (const std::invalid_argument& e) {
+    // The view changed into something this encoding cannot carry (H.264 of an odd size).
+    for (auto& s : subscribers) {
+      s->close(grpc::StatusCode::FAILED_PRECONDITION, "view '" + state.spec.name + "': " + e.what());
+    }
+    return;
   } catch (const std::exception& e) {
     for (auto& s : subscribers) s->close(grpc::StatusCode::INTERNAL, std::string("cannot encode frames: ") + e.what());
     return;

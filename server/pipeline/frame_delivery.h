@@ -28,9 +28,11 @@ struct RenderedFrame {
   std::string stale_reason;
 };
 
-// Encodes `rendered` in `key`, offers it to `subscribers` (a failed encoding ends their
-// streams with INTERNAL) and records the frame in `view`'s statistics. Never throws.
+// Encodes `rendered` in `key` (H264: through `video`, the group's shared encoder), offers
+// it to `subscribers` (a failed encoding ends their streams: FAILED_PRECONDITION for a view
+// the encoding cannot take, such as H.264 of an odd size, INTERNAL otherwise) and records
+// the frame in `view`'s statistics. Never throws.
 void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& rendered, const EncodingKey& key,
-                      const std::vector<std::shared_ptr<Subscriber>>& subscribers);
+                      const std::vector<std::shared_ptr<Subscriber>>& subscribers, VideoStream* video = nullptr);
 
 }  // namespace omniview

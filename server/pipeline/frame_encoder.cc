@@ -7,6 +7,9 @@
 #include <opencv2/imgproc.hpp>
 #include <turbojpeg.h>
 
+#include "server/pipeline/video_stream.h"
+#include "server/video/h264_encoder.h"
+
 namespace omniview {
 namespace {
 
@@ -49,9 +52,13 @@ void encode_jpeg(const cv::Mat& image, int quality, bool gray, v1::Frame& frame)
 
 }  // namespace
 
-EncodingKey encoding_key(v1::Encoding encoding, int quality, bool gray) {
+EncodingKey encoding_key(v1::Encoding encoding, int quality, bool gray, int max_kbps) {
   EncodingKey key;
   key.gray = gray;
+  if (max_kbps != 0 && encoding != v1::H264) {
+    throw std::invalid_argument("max_bitrate_kbps applies to H264 streams only (got " + std::to_string(max_kbps) +
+                                " kbit/s for " + v1::Encoding_Name(encoding) + ")");
+  }
   switch (encoding) {
     case v1::ENCODING_UNSPECIFIED:
     case v1::JPEG:
@@ -68,14 +75,32 @@ EncodingKey encoding_key(v1::Encoding encoding, int quality, bool gray) {
       key.encoding = encoding;
       key.quality = 0;  // lossless: quality has no meaning, and must not split the groups
       return key;
+    case v1::H264:
+      key.encoding = v1::H264;
+      if (quality < 0 || quality > 100) {
+        throw std::invalid_argument("quality must be 1..100 for H264 (CRF = 51 - quality/2; 0 for the default " +
+                                    std::to_string(kDefaultH264Quality) + ", CRF 26), got " + std::to_string(quality));
+      }
+      if (max_kbps != 0 && (max_kbps < video::kMinKbps || max_kbps > video::kMaxKbps)) {
+        throw std::invalid_argument("max_bitrate_kbps must be " + std::to_string(video::kMinKbps) + ".." +
+                                    std::to_string(video::kMaxKbps) + " (0: no ceiling), got " +
+                                    std::to_string(max_kbps));
+      }
+      key.quality = quality == 0 ? kDefaultH264Quality : quality;
+      key.max_kbps = max_kbps;
+      return key;
     default:
-      throw std::invalid_argument("unknown encoding " + std::to_string(encoding) + " (JPEG, PNG or RAW)");
+      throw std::invalid_argument("unknown encoding " + std::to_string(encoding) + " (JPEG, PNG, RAW or H264)");
   }
 }
 
 std::string to_string(const EncodingKey& key) {
-  std::string s = key.encoding == v1::PNG ? "png" : key.encoding == v1::RAW ? "raw" : "jpeg";
-  if (key.encoding == v1::JPEG) s += " q" + std::to_string(key.quality);
+  std::string s = key.encoding == v1::PNG    ? "png"
+                  : key.encoding == v1::RAW  ? "raw"
+                  : key.encoding == v1::H264 ? "h264"
+                                             : "jpeg";
+  if (key.encoding == v1::JPEG || key.encoding == v1::H264) s += " q" + std::to_string(key.quality);
+  if (key.max_kbps > 0) s += " <=" + std::to_string(key.max_kbps) + "kbit/s";
   if (key.gray) s += " gray";
   return s;
 }
@@ -84,7 +109,9 @@ void encode_frame(const cv::Mat& image, const EncodingKey& key, v1::Frame& frame
   if (image.type() != CV_8UC1 && image.type() != CV_8UC3) {
     throw std::runtime_error("cannot encode an image of OpenCV type " + std::to_string(image.type()));
   }
+  if (key.encoding == v1::H264) throw std::logic_error("H.264 frames are encoded by their group's VideoStream");
   frame.set_encoding(key.encoding);
+  frame.set_key_frame(true);  // every still is
   frame.set_width(image.cols);
   frame.set_height(image.rows);
   if (key.encoding == v1::JPEG) return encode_jpeg(image, key.quality, key.gray, frame);

@@ -14,9 +14,11 @@ namespace omniview {
 // `frame`. Throws std::runtime_error if the codec fails.
 void encode_frame(const cv::Mat& image, const EncodingKey& key, v1::Frame& frame);
 
-// Checks and normalises a client's request: unspecified encoding → JPEG, quality 0 → 85.
-// Throws std::invalid_argument with a message for a bad quality or encoding.
-EncodingKey encoding_key(v1::Encoding encoding, int quality, bool gray);
+// Checks and normalises a client's request: unspecified encoding → JPEG, quality 0 → 85
+// (H264: 56, CRF 23). `max_kbps` is H264's bitrate ceiling (0: none), refused for the
+// others; the caller sets an H264 key's rate_mhz. Throws std::invalid_argument with a
+// message for a bad quality, bitrate or encoding.
+EncodingKey encoding_key(v1::Encoding encoding, int quality, bool gray, int max_kbps = 0);
 
 std::string to_string(const EncodingKey& key);
 

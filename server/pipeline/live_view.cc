@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "server/pipeline/rate_average.h"
+#include "server/pipeline/video_stream.h"
 
 namespace omniview {
 
@@ -10,6 +11,15 @@ void LiveView::add_subscriber(std::shared_ptr<Subscriber> s) {
   std::lock_guard lock(mutex_);
   if (subscribers_.empty()) watched_since_ = std::chrono::steady_clock::now();
   subscribers_.push_back(std::move(s));
+}
+
+std::shared_ptr<VideoStream> LiveView::join_video(const EncodingKey& key) {
+  std::lock_guard lock(mutex_);
+  std::erase_if(video_, [](const auto& entry) { return entry.second.expired(); });
+  if (auto stream = video_[key].lock()) return stream;
+  auto stream = std::make_shared<VideoStream>(key);
+  video_[key] = stream;
+  return stream;
 }
 
 std::chrono::steady_clock::time_point LiveView::watched_since() const {

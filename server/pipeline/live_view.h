@@ -6,6 +6,7 @@
 #pragma once
 
 #include <chrono>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -67,6 +68,9 @@ class LiveView {
   // then on (Spot pulls nothing while nobody watches) is not stale before it had time.
   std::chrono::steady_clock::time_point watched_since() const;
   void close_all(grpc::StatusCode code, const std::string& reason);
+  // The shared encoder of this view's video group `key` (video_stream.h): the one its
+  // subscribers hold, or a new one when nobody holds it any more.
+  std::shared_ptr<VideoStream> join_video(const EncodingKey& key);
 
   // The view's robot layer (views with overlay on), made on first use and kept across
   // revisions, so a robot that did not move is not drawn again.
@@ -89,6 +93,8 @@ class LiveView {
   std::chrono::steady_clock::time_point watched_since_{};
   ViewStats stats_;
   std::unique_ptr<ViewOverlay> overlay_;
+  // Held by the subscribers only: the encoder goes when the group's last client has left.
+  std::map<EncodingKey, std::weak_ptr<VideoStream>> video_;
   // Its own lock: only the render thread takes it, almost always uncontended (a view moved
   // to another source could briefly be rendered by two).
   std::mutex gains_mutex_;

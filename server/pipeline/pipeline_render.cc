@@ -11,6 +11,7 @@
 #include "server/pipeline/frame_delivery.h"
 #include "server/pipeline/frame_encoder.h"
 #include "server/pipeline/staleness.h"
+#include "server/pipeline/video_stream.h"
 
 namespace omniview {
 
@@ -67,7 +68,8 @@ void Pipeline::resend_stale_views(SourceChannel& ch) {
     for (const auto& [_, v] : views_) {
       if (v->state()->spec.source != ch.source().name()) continue;
       const auto subscribers = v->subscribers();
-      if (std::any_of(subscribers.begin(), subscribers.end(), [](const auto& s) { return s->stale_frames(); })) {
+      if (std::any_of(subscribers.begin(), subscribers.end(),
+                      [](const auto& s) { return s->stale_frames() || s->video(); })) {
         views.push_back(v);
       }
     }
@@ -87,8 +89,15 @@ void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet
   const auto now = Clock::now();
   std::map<EncodingKey, std::vector<std::shared_ptr<Subscriber>>> groups;
   for (auto& s : view->subscribers()) {
-    if (s->due(now) && (!staleness || s->stale_frames())) groups[s->key()].push_back(s);
+    if (s->due(now) && (!staleness || s->stale_frames() || s->video())) groups[s->key()].push_back(s);
   }
+  // A video group keeps one pace for all its clients (video_stream.h). Its clients all get
+  // the stale re-renders (about one a second), asked for or not: every frame the shared
+  // encoder codes is part of each client's stream.
+  std::erase_if(groups, [&](const auto& group) {
+    const auto& video = group.second.front()->video();
+    return video && !staleness && !video->take_turn(now);
+  });
   // An encoding that is behind (a PNG of a big view) still has a frame waiting: it gets
   // that one, and this frame set costs it nothing, not even the map's apply.
   std::erase_if(groups, [&](const auto& group) {
@@ -139,8 +148,8 @@ void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet
   const int width = rendered->image.cols, height = rendered->image.rows;
   for (auto& [key, subscribers] : groups) {
     EncoderPool::Job job;
-    job.run = [view, state, rendered, key, subscribers] {
-      encode_and_offer(*view, *state, *rendered, key, subscribers);
+    job.run = [view, state, rendered, key, subscribers, video = subscribers.front()->video()] {
+      encode_and_offer(*view, *state, *rendered, key, subscribers, video.get());
     };
     job.dropped = [subscribers] {
       for (const auto& s : subscribers) s->count_dropped();

@@ -3,8 +3,10 @@
 #include "server/pipeline/pipeline.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "server/pipeline/camera_sampling.h"
+#include "server/pipeline/video_stream.h"
 
 namespace omniview {
 
@@ -12,7 +14,24 @@ std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const s
                                                 double max_rate_hz, bool stale_frames) {
   if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
   auto view = find_view(name);
-  auto s = std::make_shared<Subscriber>(peer, key, max_rate_hz, stale_frames);
+  std::shared_ptr<Subscriber> s;
+  if (key.encoding == v1::H264) {
+    // Refused up front (an odd or too large size) rather than ending the stream at its
+    // first frame.
+    const auto state = view->state();
+    video::H264Settings settings;
+    settings.width = state->spec.width;
+    settings.height = state->spec.height;
+    try {
+      video::check(settings);
+    } catch (const std::invalid_argument& e) {
+      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "view '" + name + "': " + e.what());
+    }
+    key.rate_mhz = static_cast<int>(std::lround(max_rate_hz * 1000));
+    s = std::make_shared<Subscriber>(peer, key, view->join_video(key), stale_frames);
+  } else {
+    s = std::make_shared<Subscriber>(peer, key, max_rate_hz, stale_frames);
+  }
   view->add_subscriber(s);
   update_wanted_cameras(view->state()->spec.source);
   return s;

@@ -2,7 +2,16 @@
 
 #include <algorithm>
 
+#include "server/pipeline/video_stream.h"
+
 namespace omniview {
+
+Subscriber::Subscriber(std::string peer, EncodingKey key, std::shared_ptr<VideoStream> video, bool stale_frames)
+    : peer_(std::move(peer)), key_(key), max_rate_hz_(0), stale_frames_(stale_frames), video_(std::move(video)) {
+  video_->request_key_frame();  // a joining client starts at once, not at the next periodic key frame
+}
+
+Subscriber::~Subscriber() = default;
 
 bool Subscriber::due(std::chrono::steady_clock::time_point now) const {
   std::lock_guard lock(mutex_);
@@ -12,7 +21,12 @@ bool Subscriber::due(std::chrono::steady_clock::time_point now) const {
 void Subscriber::offer(SharedFrame frame, std::chrono::steady_clock::time_point now) {
   {
     std::lock_guard lock(mutex_);
-    if (closed_ || frame->camera().revision() < min_revision_) return;
+    if (closed_) return;
+    if (video_) {
+      if (!offer_video(frame)) return;
+    } else if (frame->camera().revision() < min_revision_) {
+      return;
+    }
     if (slot_) ++dropped_;  // the client has not taken the previous one: it is stale now
     slot_ = std::move(frame);
     if (max_rate_hz_ > 0) {
@@ -26,8 +40,28 @@ void Subscriber::offer(SharedFrame frame, std::chrono::steady_clock::time_point 
   ready_.notify_one();
 }
 
+// Under the lock. A frame that depends on one the client did not get is refused, and so is
+// the one in the slot when it is replaced: from there on only a key frame is taken.
+bool Subscriber::offer_video(const SharedFrame& frame) {
+  if (frame->key_frame()) {
+    awaiting_key_ = false;
+    started_ = true;
+    return true;
+  }
+  if (!awaiting_key_ && !slot_) return true;  // the next frame after the one the client took
+  if (started_) {
+    dropped_ += slot_ ? 2 : 1;
+  }
+  slot_.reset();
+  awaiting_key_ = true;
+  return false;
+}
+
 void Subscriber::set_min_revision(uint64_t revision) {
   std::lock_guard lock(mutex_);
+  // A video stream cannot skip a frame without breaking: the frames rendered before the
+  // change still go out (each describes its own revision), the new ones follow.
+  if (video_) return;
   min_revision_ = std::max(min_revision_, revision);
   if (slot_ && slot_->camera().revision() < min_revision_) slot_.reset();
 }
@@ -50,6 +84,9 @@ void Subscriber::close(grpc::StatusCode code, const std::string& reason) {
 
 std::optional<SharedFrame> Subscriber::take(std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
+  // A video client that lost frames asks for a key frame only now that it reads again: a
+  // stalled client does not make the shared encoder send key frames to everybody.
+  if (video_ && awaiting_key_ && started_ && !slot_ && !closed_) video_->request_key_frame();
   ready_.wait_for(lock, timeout, [&] { return slot_ || closed_; });
   if (slot_) return std::exchange(slot_, nullptr);
   if (closed_) return SharedFrame{};

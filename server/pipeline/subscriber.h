@@ -27,15 +27,31 @@ struct EncodingKey {
   v1::Encoding encoding = v1::JPEG;
   int quality = 85;
   bool gray = false;
+  // H264 only (0 for the still encodings, so that they never split their groups): the
+  // bitrate ceiling, and the rate (millihertz) the group's one encoder runs at: clients of
+  // a video stream share every frame, so they must share the rate too.
+  int max_kbps = 0;
+  int rate_mhz = 0;
   auto operator<=>(const EncodingKey&) const = default;
 };
 
 using SharedFrame = std::shared_ptr<const v1::Frame>;
 
+class VideoStream;
+
 class Subscriber {
  public:
   Subscriber(std::string peer, EncodingKey key, double max_rate_hz, bool stale_frames = false)
       : peer_(std::move(peer)), key_(key), max_rate_hz_(max_rate_hz), stale_frames_(stale_frames) {}
+  // A video client (H264): `video` is its group's shared encoder, which paces the frames
+  // (this subscriber's own rate is then 0). Its slot keeps the stream decodable: a client
+  // that missed a frame gets nothing until the next key frame, asked of `video` as soon
+  // as the client is ready to read again; it starts at a key frame too.
+  Subscriber(std::string peer, EncodingKey key, std::shared_ptr<VideoStream> video, bool stale_frames);
+  ~Subscriber();
+
+  // The group's shared encoder (H264), or null.
+  const std::shared_ptr<VideoStream>& video() const { return video_; }
 
   const std::string& peer() const { return peer_; }
   const EncodingKey& key() const { return key_; }
@@ -65,10 +81,13 @@ class Subscriber {
   uint64_t frames_dropped() const;
 
  private:
+  bool offer_video(const SharedFrame& frame);
+
   const std::string peer_;
   const EncodingKey key_;
   const double max_rate_hz_;
   const bool stale_frames_;
+  const std::shared_ptr<VideoStream> video_;
 
   mutable std::mutex mutex_;
   std::condition_variable ready_;
@@ -78,6 +97,8 @@ class Subscriber {
   std::string close_reason_;
   std::chrono::steady_clock::time_point next_due_{};
   uint64_t min_revision_ = 0;
+  bool awaiting_key_ = true;  // video: the next frame this client can decode is a key frame
+  bool started_ = false;      // video: a key frame reached the slot (drops count from then)
   uint64_t sent_ = 0;
   uint64_t dropped_ = 0;
 };

@@ -46,6 +46,30 @@ TEST(DaemonConfig, BundledConfigParses) {
   for (const auto& v : config.views) EXPECT_EQ(v.source, "examples");
   ASSERT_TRUE(config.reader);
   EXPECT_EQ(config.reader->file(), config.file);
+  // RTSP on loopback, as the comments say.
+  ASSERT_TRUE(config.rtsp);
+  EXPECT_EQ(config.rtsp->listen, "127.0.0.1:8554");
+}
+
+TEST(DaemonConfig, RtspIsOffUnlessConfiguredAndItsKeysAreChecked) {
+  EXPECT_FALSE(parse(kSources).rtsp);
+  const auto config =
+      parse(std::string(kSources) + "rtsp: {listen: 127.0.0.1:9554, quality: 60, max_bitrate_kbps: 800}\n");
+  ASSERT_TRUE(config.rtsp);
+  EXPECT_EQ(config.rtsp->listen, "127.0.0.1:9554");
+  EXPECT_EQ(config.rtsp->quality, 60);
+  EXPECT_EQ(config.rtsp->max_bitrate_kbps, 800);
+  expect_error(std::string(kSources) + "rtsp: {listen: unix:/tmp/x}\n", {"d.yaml:3", "rtsp.listen", "host:port"});
+  expect_error(std::string(kSources) + "rtsp: {listen: 127.0.0.1:70000}\n", {"d.yaml:3", "rtsp.listen", "0..65535"});
+  expect_error(std::string(kSources) + "rtsp: {quality: 101}\n", {"d.yaml:3", "rtsp.quality"});
+  expect_error(std::string(kSources) + "rtsp: {max_bitrate_kbps: 10}\n",
+               {"d.yaml:3", "rtsp.max_bitrate_kbps", "50..100000"});
+  expect_error(std::string(kSources) + "rtsp: {max_rate_hz: -1}\n", {"d.yaml:3", "rtsp.max_rate_hz"});
+  expect_error(std::string(kSources) + "rtsp: {port: 8554}\n", {"d.yaml:3", "port"});
+  expect_error(std::string(kSources) + "rtsp: yes\n", {"d.yaml:3", "rtsp"});
+  // The exposure rule, as for `listen`: others can reach it, and nothing guards it.
+  expect_error(std::string(kSources) + "rtsp: {listen: 0.0.0.0:8554}\n",
+               {"d.yaml:3", "rtsp.listen", "reachable from other machines"});
 }
 
 TEST(DaemonConfig, DefaultsAndMinimalConfig) {

@@ -1,0 +1,63 @@
+#include "server/pipeline/video_stream.h"
+
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+
+namespace omniview {
+
+double h264_crf(int quality) { return 51.0 - (quality == 0 ? kDefaultH264Quality : quality) / 2.0; }
+
+VideoStream::VideoStream(const EncodingKey& key) : key_(key) {}
+
+bool VideoStream::take_turn(Clock::time_point now) {
+  std::lock_guard lock(pace_mutex_);
+  if (now < next_due_) return false;
+  if (key_.rate_mhz > 0) {
+    // As Subscriber::offer: from the nominal time, so jitter does not lower the rate, but
+    // no backlog of turns after a pause.
+    const auto period =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1000.0 / key_.rate_mhz));
+    next_due_ = std::max(next_due_ + period, now + period / 2);
+  }
+  return true;
+}
+
+video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point arrival) {
+  std::lock_guard lock(mutex_);
+  const cv::Mat* pixels = &image;
+  if (key_.gray && image.channels() == 3) {
+    cv::cvtColor(image, grey_, cv::COLOR_BGR2GRAY);
+    pixels = &grey_;
+  }
+  const auto now = Clock::now();
+  if (!encoder_ || encoder_->settings().width != pixels->cols || encoder_->settings().height != pixels->rows) {
+    video::H264Settings settings;
+    settings.width = pixels->cols;
+    settings.height = pixels->rows;
+    settings.fps = key_.rate_mhz > 0 ? std::min(key_.rate_mhz / 1000.0, 60.0) : 30.0;
+    settings.crf = h264_crf(key_.quality);
+    settings.max_kbps = key_.max_kbps;
+    encoder_.reset();  // the old one's memory first
+    encoder_ = std::make_unique<video::H264Encoder>(settings);
+    key_wanted_ = true;  // a new size starts with a key frame (new SPS) for everyone
+  }
+  bool key = false;
+  if (key_wanted_ && (last_key_ == Clock::time_point{} || now - last_key_ >= kMinKeyInterval)) key = true;
+  if (now - last_key_ >= kMaxKeyInterval) key = true;
+  // The rate frames really come at (the source's, or the group's if lower), averaged.
+  if (last_arrival_ != Clock::time_point{} && arrival > last_arrival_) {
+    const double interval = std::chrono::duration<double>(arrival - last_arrival_).count();
+    mean_interval_s_ = mean_interval_s_ == 0 ? interval : 0.9 * mean_interval_s_ + 0.1 * interval;
+    encoder_->set_frame_rate(1.0 / mean_interval_s_);
+  }
+  last_arrival_ = arrival;
+  const auto pts_ms = std::chrono::duration_cast<std::chrono::milliseconds>(arrival.time_since_epoch()).count();
+  video::AccessUnit au = encoder_->encode(*pixels, pts_ms, key);
+  if (au.key_frame) {
+    last_key_ = now;
+    key_wanted_ = false;
+  }
+  return au;
+}
+
+}  // namespace omniview

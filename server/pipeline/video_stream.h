@@ -1,0 +1,66 @@
+// The one H.264 encoder that every client of a view's (encoding key, rate) group shares.
+//
+// Video is stateful: each frame is coded against the ones before, so a group's frames go
+// through one persistent encoder in order (the encoder pool runs at most one job per group
+// at a time) and every subscriber of the group gets the same access units. The group keeps
+// its own pace (`take_turn`), not each client's. The encoder lives as long as some
+// subscriber holds the stream (LiveView::join_video hands it out and forgets it once the
+// last one is gone), and is made again when the view's size changes (the next frame is
+// a key frame with the new SPS).
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <opencv2/core/mat.hpp>
+
+#include "server/pipeline/subscriber.h"
+#include "server/video/h264_encoder.h"
+
+namespace omniview {
+
+class VideoStream {
+ public:
+  using Clock = std::chrono::steady_clock;
+  // Forced key frames come at most this often: a client that keeps missing frames cannot
+  // turn everybody's stream into key frames. (A key frame is 5-10 times a frame's bits.)
+  static constexpr std::chrono::milliseconds kMinKeyInterval{250};
+  // A key frame at least this often even when nobody asks (a decoder that lost its way
+  // recovers by itself).
+  static constexpr std::chrono::seconds kMaxKeyInterval{10};
+
+  explicit VideoStream(const EncodingKey& key);
+
+  const EncodingKey& key() const { return key_; }
+
+  // Render thread: whether the group is due a frame at its rate; if so, its turn is taken.
+  bool take_turn(Clock::time_point now);
+  // Any thread: the next frame encoded is a key frame (or the first after kMinKeyInterval).
+  void request_key_frame() { key_wanted_ = true; }
+
+  // Encoder thread: `image` (grey or BGR; made grey for a gray key) as the next access unit.
+  // Throws std::invalid_argument where the image cannot be H.264 (an odd size), or
+  // std::runtime_error if the encoder fails.
+  video::AccessUnit encode(const cv::Mat& image, Clock::time_point arrival);
+
+ private:
+  const EncodingKey key_;
+  std::atomic<bool> key_wanted_{true};
+  std::mutex pace_mutex_;  // the render thread's: never waits for an encode
+  Clock::time_point next_due_{};
+  std::mutex mutex_;  // the encoder's state (the pool runs one job per group at a time anyway)
+  std::unique_ptr<video::H264Encoder> encoder_;
+  Clock::time_point last_key_{};
+  Clock::time_point last_arrival_{};
+  double mean_interval_s_ = 0;
+  cv::Mat grey_;
+};
+
+// H264 quality 1..100 (0: default) -> x264's constant rate factor: CRF = 51 - quality / 2,
+// so 100 is CRF 1 and the default 50 is CRF 26: ~41 dB on spot-mock's room at a third of a
+// megabit a second for the front view (bench/README.md).
+double h264_crf(int quality);
+constexpr int kDefaultH264Quality = 50;
+
+}  // namespace omniview

@@ -1,0 +1,37 @@
+// One RTSP client's media fed from the pipeline: a subscriber of the view's H264 group
+// whose access units are pushed into the media's appsrc, on a thread of its own.
+#pragma once
+
+#include <gst/gst.h>
+
+#include <atomic>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "server/pipeline/pipeline.h"
+
+namespace omniview {
+
+class RtspFeed {
+ public:
+  // Subscribes at once (the group's encoder makes a key frame for it) and starts pushing.
+  // Throws ApiError as Pipeline::subscribe does (a view deleted meanwhile).
+  RtspFeed(Pipeline& pipeline, const std::string& view, const EncodingKey& key, double rate_hz, GstElement* appsrc);
+  // Stops pushing and leaves the group (the last one out frees its encoder).
+  ~RtspFeed();
+  RtspFeed(const RtspFeed&) = delete;
+  RtspFeed& operator=(const RtspFeed&) = delete;
+
+ private:
+  void run();
+
+  Pipeline& pipeline_;
+  const std::string view_;
+  std::shared_ptr<Subscriber> subscriber_;
+  GstElement* appsrc_;  // a reference of our own
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace omniview

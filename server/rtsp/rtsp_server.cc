@@ -1,0 +1,292 @@
+#include "server/rtsp/rtsp_server.h"
+
+#include <gst/rtsp-server/rtsp-server.h>
+#include <pthread.h>
+
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+#include "server/exposure/host_port.h"
+#include "server/pipeline/frame_encoder.h"
+#include "server/rtsp/rtsp_feed.h"
+
+namespace omniview {
+
+namespace {
+
+constexpr const char* kUser = "omniview";
+constexpr const char* kRole = "viewer";
+constexpr guint kMountSyncMs = 500;  // views created or deleted through the API show up this fast
+
+// appsrc's caps say what we push: Annex-B access units. h264parse puts SPS/PPS into the
+// caps for the SDP; rtph264pay sends them again before every IDR (config-interval -1).
+constexpr const char* kLaunch =
+    "( appsrc name=src is-live=true do-timestamp=true format=time "
+    "caps=video/x-h264,stream-format=byte-stream,alignment=au "
+    "! h264parse ! rtph264pay name=pay0 pt=96 config-interval=-1 )";
+
+void init_gstreamer() {
+  static std::once_flag once;
+  static std::string error;
+  std::call_once(once, [] {
+    GError* e = nullptr;
+    if (!gst_init_check(nullptr, nullptr, &e)) {
+      error = std::string("cannot start GStreamer: ") + (e ? e->message : "unknown error");
+      if (e) g_error_free(e);
+    }
+  });
+  if (!error.empty()) throw std::runtime_error(error);
+  for (const auto& [element, package] :
+       std::vector<std::pair<const char*, const char*>>{{"appsrc", "gstreamer1.0-plugins-base"},
+                                                        {"h264parse", "gstreamer1.0-plugins-bad"},
+                                                        {"rtph264pay", "gstreamer1.0-plugins-good"}}) {
+    GstElementFactory* factory = gst_element_factory_find(element);
+    if (factory == nullptr) {
+      throw std::runtime_error(std::string("RTSP needs GStreamer's '") + element + "' element: install " + package);
+    }
+    gst_object_unref(factory);
+  }
+}
+
+std::string url_host(const std::string& listen) {
+  const auto hp = split_host_port(listen);
+  std::string host = hp ? hp->host : listen;
+  if (host == "0.0.0.0" || host == "::" || host == "[::]") host = "HOST";  // any of this machine's addresses
+  if (hp && hp->bracketed) host = "[" + host + "]";
+  return host;
+}
+
+}  // namespace
+
+// What a media of one view needs when a client asks for it (the factory's signal data).
+struct MountContext {
+  Pipeline* pipeline;
+  std::string view;
+  EncodingKey key;
+  double rate_hz;
+};
+
+struct RtspServer::Impl {
+  Pipeline& pipeline;
+  RtspConfig config;
+  EncodingKey key;
+  double rate_hz = 0;
+  std::string scheme = "rtsp";
+  GstRTSPServer* server = nullptr;
+  GstRTSPMountPoints* mounts = nullptr;
+  GstRTSPAuth* auth = nullptr;
+  GMainContext* context = nullptr;
+  GMainLoop* loop = nullptr;
+  guint attach_id = 0;
+  std::thread thread;
+  int port = 0;
+  std::mutex mutex;
+  std::set<std::string> mounted;  // view names
+  bool stopped = false;
+
+  explicit Impl(Pipeline& p) : pipeline(p) {}
+
+  void mount(const std::string& view);
+  void sync_mounts();
+};
+
+namespace {
+
+void destroy_feed(gpointer feed) { delete static_cast<RtspFeed*>(feed); }
+
+// A client asked for a view: its media gets a feed of its own (non-shared media), whose
+// subscription asks the group's encoder for a key frame, so the client starts at once.
+void on_media_configure(GstRTSPMediaFactory*, GstRTSPMedia* media, gpointer data) {
+  const auto* mount = static_cast<const MountContext*>(data);
+  GstElement* bin = gst_rtsp_media_get_element(media);
+  GstElement* appsrc = gst_bin_get_by_name_recurse_up(GST_BIN(bin), "src");
+  gst_object_unref(bin);
+  if (appsrc == nullptr) return;
+  try {
+    auto* feed = new RtspFeed(*mount->pipeline, mount->view, mount->key, mount->rate_hz, appsrc);
+    g_object_set_data_full(G_OBJECT(media), "omniview-feed", feed, destroy_feed);
+  } catch (const std::exception& e) {
+    // A view deleted between the mount and the request: the media ends at once.
+    std::cerr << "omniviewd: rtsp: view '" << mount->view << "': " << e.what() << std::endl;
+    gst_element_send_event(appsrc, gst_event_new_eos());
+  }
+  gst_object_unref(appsrc);
+}
+
+}  // namespace
+
+void RtspServer::Impl::mount(const std::string& view) {
+  GstRTSPMediaFactory* factory = gst_rtsp_media_factory_new();
+  gst_rtsp_media_factory_set_launch(factory, kLaunch);
+  gst_rtsp_media_factory_set_shared(factory, FALSE);  // one media per client; the encoder is shared below it
+  gst_rtsp_media_factory_set_latency(factory, 0);
+  auto* ctx = new MountContext{&pipeline, view, key, rate_hz};
+  g_signal_connect_data(
+      factory, "media-configure", G_CALLBACK(on_media_configure), ctx,
+      [](gpointer data, GClosure*) { delete static_cast<MountContext*>(data); }, GConnectFlags(0));
+  if (auth != nullptr) {
+    gst_rtsp_media_factory_add_role(factory, kRole, GST_RTSP_PERM_MEDIA_FACTORY_ACCESS, G_TYPE_BOOLEAN, TRUE,
+                                    GST_RTSP_PERM_MEDIA_FACTORY_CONSTRUCT, G_TYPE_BOOLEAN, TRUE, nullptr);
+  }
+  gst_rtsp_mount_points_add_factory(mounts, ("/" + view).c_str(), factory);  // takes the factory
+}
+
+// Views follow the API: created ones are mounted, deleted (or renamed) ones unmounted.
+void RtspServer::Impl::sync_mounts() {
+  std::set<std::string> views;
+  for (const auto& v : pipeline.list_views()) views.insert(v.spec().name());
+  std::lock_guard lock(mutex);
+  for (const auto& v : views) {
+    if (!mounted.count(v)) mount(v);
+  }
+  for (const auto& v : mounted) {
+    if (!views.count(v)) gst_rtsp_mount_points_remove_factory(mounts, ("/" + v).c_str());
+  }
+  mounted = std::move(views);
+  // Sessions whose client vanished without TEARDOWN end after their timeout.
+  GstRTSPSessionPool* pool = gst_rtsp_server_get_session_pool(server);
+  gst_rtsp_session_pool_cleanup(pool);
+  g_object_unref(pool);
+}
+
+RtspServer::RtspServer(const DaemonConfig& config, Pipeline& pipeline) : impl_(std::make_unique<Impl>(pipeline)) {
+  init_gstreamer();
+  Impl& m = *impl_;
+  m.config = *config.rtsp;
+  m.key = encoding_key(v1::H264, m.config.quality, false, m.config.max_bitrate_kbps);
+  m.rate_hz = m.config.max_rate_hz > 0 ? m.config.max_rate_hz : config.limits.max_rate_hz;
+  const auto hp = split_host_port(m.config.listen);
+  if (!hp) throw std::runtime_error("rtsp.listen: expected host:port, got '" + m.config.listen + "'");
+
+  m.server = gst_rtsp_server_new();
+  gst_rtsp_server_set_address(m.server, hp->host.c_str());
+  gst_rtsp_server_set_service(m.server, hp->port.c_str());
+  GstRTSPSessionPool* pool = gst_rtsp_server_get_session_pool(m.server);
+  gst_rtsp_session_pool_set_max_sessions(pool, static_cast<guint>(config.limits.max_streams));
+  g_object_unref(pool);
+
+  // Who may watch: the API's tokens (either role) as the basic-auth password; without
+  // tokens, everybody. TLS (RTSPS) with the API's certificate.
+  if (!config.tokens.empty() || config.tls) {
+    m.auth = gst_rtsp_auth_new();
+    for (const auto& t : config.tokens) {
+      gchar* basic = gst_rtsp_auth_make_basic(kUser, t.token.c_str());
+      GstRTSPToken* token = gst_rtsp_token_new(GST_RTSP_TOKEN_MEDIA_FACTORY_ROLE, G_TYPE_STRING, kRole, nullptr);
+      gst_rtsp_auth_add_basic(m.auth, basic, token);
+      gst_rtsp_token_unref(token);
+      g_free(basic);
+    }
+    if (config.tokens.empty()) {
+      GstRTSPToken* anyone = gst_rtsp_token_new(GST_RTSP_TOKEN_MEDIA_FACTORY_ROLE, G_TYPE_STRING, kRole, nullptr);
+      gst_rtsp_auth_set_default_token(m.auth, anyone);
+      gst_rtsp_token_unref(anyone);
+    }
+    if (config.tls) {
+      GError* e = nullptr;
+      GTlsCertificate* cert =
+          g_tls_certificate_new_from_files(config.tls->cert_file.c_str(), config.tls->key_file.c_str(), &e);
+      if (cert == nullptr) {
+        const std::string why = e ? e->message : "unknown error";
+        if (e) g_error_free(e);
+        throw std::runtime_error("rtsp: cannot load the TLS certificate: " + why);
+      }
+      gst_rtsp_auth_set_tls_certificate(m.auth, cert);
+      g_object_unref(cert);
+      if (!config.tls->client_ca_file.empty()) {
+        GTlsDatabase* db = g_tls_file_database_new(config.tls->client_ca_file.c_str(), &e);
+        if (db == nullptr) {
+          const std::string why = e ? e->message : "unknown error";
+          if (e) g_error_free(e);
+          throw std::runtime_error("rtsp: cannot load tls.client_ca: " + why);
+        }
+        gst_rtsp_auth_set_tls_database(m.auth, db);
+        gst_rtsp_auth_set_tls_authentication_mode(m.auth, G_TLS_AUTHENTICATION_REQUIRED);
+        g_object_unref(db);
+      }
+      m.scheme = "rtsps";
+    }
+    gst_rtsp_server_set_auth(m.server, m.auth);
+  }
+
+  m.mounts = gst_rtsp_server_get_mount_points(m.server);
+  m.sync_mounts();
+  m.context = g_main_context_new();
+  m.loop = g_main_loop_new(m.context, FALSE);
+  m.attach_id = gst_rtsp_server_attach(m.server, m.context);
+  if (m.attach_id == 0) {
+    stop();
+    throw std::runtime_error("cannot listen on rtsp.listen '" + m.config.listen +
+                             "' (address in use, or not an address of this machine?)");
+  }
+  m.port = gst_rtsp_server_get_bound_port(m.server);
+  GSource* timer = g_timeout_source_new(kMountSyncMs);
+  g_source_set_callback(
+      timer,
+      [](gpointer data) -> gboolean {
+        static_cast<Impl*>(data)->sync_mounts();
+        return G_SOURCE_CONTINUE;
+      },
+      &m, nullptr);
+  g_source_attach(timer, m.context);
+  g_source_unref(timer);
+  m.thread = std::thread([&m] {
+    pthread_setname_np(pthread_self(), "rtsp");
+    g_main_context_push_thread_default(m.context);
+    g_main_loop_run(m.loop);
+    g_main_context_pop_thread_default(m.context);
+  });
+}
+
+RtspServer::~RtspServer() { stop(); }
+
+std::string RtspServer::base_url() const {
+  return impl_->scheme + "://" + url_host(impl_->config.listen) + ":" + std::to_string(impl_->port);
+}
+
+std::vector<std::string> RtspServer::urls() const {
+  std::vector<std::string> out;
+  std::lock_guard lock(impl_->mutex);
+  for (const auto& v : impl_->mounted) out.push_back(base_url() + "/" + v);
+  return out;
+}
+
+void RtspServer::stop() {
+  Impl& m = *impl_;
+  {
+    std::lock_guard lock(m.mutex);
+    if (m.stopped) return;
+    m.stopped = true;
+  }
+  if (m.server != nullptr) {
+    // Every client's connection closed: their medias go, and with them their feeds.
+    gst_rtsp_server_client_filter(
+        m.server, [](GstRTSPServer*, GstRTSPClient*, gpointer) { return GST_RTSP_FILTER_REMOVE; }, nullptr);
+  }
+  if (m.loop != nullptr) {
+    g_main_loop_quit(m.loop);
+    if (m.thread.joinable()) m.thread.join();
+  }
+  if (m.context != nullptr) {
+    // The listening socket's source, and any left: nothing runs on the context any more.
+    if (m.attach_id != 0) {
+      if (GSource* s = g_main_context_find_source_by_id(m.context, m.attach_id)) g_source_destroy(s);
+    }
+    while (g_main_context_pending(m.context)) g_main_context_iteration(m.context, FALSE);
+  }
+  if (m.mounts != nullptr) g_object_unref(m.mounts);
+  if (m.auth != nullptr) g_object_unref(m.auth);
+  if (m.server != nullptr) g_object_unref(m.server);
+  if (m.loop != nullptr) g_main_loop_unref(m.loop);
+  if (m.context != nullptr) g_main_context_unref(m.context);
+  m.mounts = nullptr;
+  m.auth = nullptr;
+  m.server = nullptr;
+  m.loop = nullptr;
+  m.context = nullptr;
+}
+
+}  // namespace omniview

@@ -1,0 +1,134 @@
+// A video client's slot (server/pipeline/subscriber.h) and its group's shared encoder
+// (video_stream.h), no daemon: a client never gets a frame it cannot decode, asks for a
+// key frame only when it reads again, and the encoder honours such asks at a bounded rate.
+#include <gtest/gtest.h>
+
+#include <thread>
+
+#include "server/pipeline/video_stream.h"
+
+namespace omniview {
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = std::chrono::steady_clock;
+
+EncodingKey h264_key() {
+  EncodingKey key;
+  key.encoding = v1::H264;
+  key.quality = 50;
+  key.rate_mhz = 15000;
+  return key;
+}
+
+SharedFrame frame(uint64_t sequence, bool key) {
+  auto f = std::make_shared<v1::Frame>();
+  f->set_sequence(sequence);
+  f->set_key_frame(key);
+  return f;
+}
+
+cv::Mat picture(int t) {
+  cv::Mat m(48, 64, CV_8UC1);
+  for (int y = 0; y < m.rows; ++y) {
+    for (int x = 0; x < m.cols; ++x) m.at<uint8_t>(y, x) = static_cast<uint8_t>((x + t) * 4 + y);
+  }
+  return m;
+}
+
+TEST(VideoSubscriber, StartsAtAKeyFrameAndSkipsToTheNextAfterAMissedFrame) {
+  auto video = std::make_shared<VideoStream>(h264_key());
+  Subscriber s("peer", h264_key(), video, false);
+  const auto now = Clock::now();
+  s.offer(frame(1, false), now);  // before its first key frame: nothing to decode from
+  EXPECT_FALSE(s.take(0ms).has_value());
+  s.offer(frame(2, true), now);
+  s.offer(frame(3, false), now);  // the slot still holds 2: 3 would need it, so both go
+  EXPECT_FALSE(s.take(0ms).has_value());
+  EXPECT_EQ(s.frames_dropped(), 2u);
+  s.offer(frame(4, false), now);  // still waiting for a key frame
+  EXPECT_FALSE(s.take(0ms).has_value());
+  s.offer(frame(5, true), now);
+  auto got = s.take(0ms);
+  ASSERT_TRUE(got && *got);
+  EXPECT_EQ((*got)->sequence(), 5u);
+  // Read in time, the frames that follow come one by one.
+  s.offer(frame(6, false), now);
+  got = s.take(0ms);
+  ASSERT_TRUE(got && *got);
+  EXPECT_EQ((*got)->sequence(), 6u);
+  // A key frame may replace an unread frame: the client starts again from it.
+  s.offer(frame(7, false), now);
+  s.offer(frame(8, true), now);
+  got = s.take(0ms);
+  ASSERT_TRUE(got && *got);
+  EXPECT_EQ((*got)->sequence(), 8u);
+  EXPECT_TRUE((*got)->key_frame());
+}
+
+TEST(VideoStream, KeyFramesOnJoinOnAskAndNotMoreOftenThanTheBound) {
+  auto video = std::make_shared<VideoStream>(h264_key());
+  const auto t0 = Clock::now();
+  int t = 0;
+  const auto encode = [&] {
+    const int i = t++;
+    return video->encode(picture(i), t0 + std::chrono::milliseconds(66 * i));
+  };
+  EXPECT_TRUE(encode().key_frame);  // the first
+  EXPECT_FALSE(encode().key_frame);
+  EXPECT_FALSE(encode().key_frame);
+  // An ask right after a key frame waits for the bound (250 ms), then is honoured once.
+  video->request_key_frame();
+  EXPECT_FALSE(encode().key_frame);
+  std::this_thread::sleep_for(VideoStream::kMinKeyInterval + 20ms);
+  EXPECT_TRUE(encode().key_frame);
+  EXPECT_FALSE(encode().key_frame);
+}
+
+TEST(VideoStream, AClientThatMissedFramesAsksForAKeyFrameOnlyWhenItReadsAgain) {
+  auto video = std::make_shared<VideoStream>(h264_key());
+  Subscriber s("peer", h264_key(), video, false);
+  const auto t0 = Clock::now();
+  int t = 0;
+  const auto encode = [&] {
+    const int i = t++;
+    return video->encode(picture(i), t0 + std::chrono::milliseconds(66 * i));
+  };
+  ASSERT_TRUE(encode().key_frame);  // the join's
+  std::this_thread::sleep_for(VideoStream::kMinKeyInterval + 20ms);
+  s.offer(frame(1, true), Clock::now());
+  s.offer(frame(2, false), Clock::now());  // missed: the client is stalled
+  // Stalled: the group's encoder goes on without key frames.
+  for (int i = 0; i < 3; ++i) EXPECT_FALSE(encode().key_frame);
+  // The client reads again: it finds nothing, and asks; the next frame is a key frame.
+  EXPECT_FALSE(s.take(0ms).has_value());
+  EXPECT_TRUE(encode().key_frame);
+}
+
+TEST(VideoStream, KeepsTheGroupsPace) {
+  VideoStream video(h264_key());  // 15 Hz
+  const auto t0 = Clock::now();
+  int turns = 0;
+  for (int ms = 0; ms < 1000; ms += 5) turns += video.take_turn(t0 + std::chrono::milliseconds(ms)) ? 1 : 0;
+  EXPECT_GE(turns, 14);
+  EXPECT_LE(turns, 16);
+}
+
+TEST(VideoStream, AnOddSizeIsAClearErrorAndAResizeStartsWithAKeyFrame) {
+  VideoStream video(h264_key());
+  const auto now = Clock::now();
+  EXPECT_TRUE(video.encode(picture(0), now).key_frame);
+  EXPECT_FALSE(video.encode(picture(1), now + 66ms).key_frame);
+  cv::Mat bigger(60, 80, CV_8UC1, cv::Scalar(90));
+  EXPECT_TRUE(video.encode(bigger, now + 132ms).key_frame);
+  cv::Mat odd(60, 81, CV_8UC1, cv::Scalar(90));
+  try {
+    video.encode(odd, now + 200ms);
+    ADD_FAILURE() << "an odd size was encoded";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("81x60"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace omniview
