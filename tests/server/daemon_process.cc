@@ -1,8 +1,11 @@
 #include "daemon_process.h"
 
+#include <arpa/inet.h>
 #include <fcntl.h>
+#include <netinet/in.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -56,6 +59,18 @@ double test_time_scale() {
   const char* text = std::getenv("OMNIVIEW_TEST_TIME_SCALE");
   const double scale = text ? std::atof(text) : 1.0;
   return scale >= 1.0 ? scale : 1.0;
+}
+
+int free_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t n = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n);
+  ::close(fd);
+  return ntohs(a.sin_port);
 }
 
 std::string example_dir() { return std::string(OMNIVIEW_SOURCE_DIR) + "/config/examples/dual_fisheye"; }

@@ -33,6 +33,10 @@ class TempDir {
 // the code path without failing on the sanitizer's own slowdown.
 double test_time_scale();
 
+// A TCP port on 127.0.0.1 that was free a moment ago (for a second server a test starts on
+// a port it must know beforehand; another process may still take it in between).
+int free_port();
+
 // Where the bundled example rig and images are (absolute).
 std::string example_dir();
 
