@@ -11,6 +11,9 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   liburdfdom-dev liburdfdom-headers-dev libassimp-dev libosmesa6-dev
   libturbojpeg0-dev
+  libboost-dev  # Boost.Beast and Asio (header-only): omniviewd's HTTP + WebSocket endpoint (server/web)
+  libjs-three   # three.js, served to the console's 3D cloud panel from /usr/share/javascript
+  python3-websockets python3-selenium python3-yaml chromium chromium-driver  # tests/web
   dpkg-dev systemd  # cpack -G DEB (dpkg-shlibdeps) and systemd-analyze verify: scripts/check-install.sh
 )
 

@@ -27,6 +27,8 @@ std::vector<ViewSpec> parse_daemon_views(const YamlReader& reader, const YAML::N
 void apply_views_file(const YamlReader& config_reader, const YAML::Node& node, const std::string& file,
                       const std::vector<SourceEntry>& sources, const Limits& limits, std::vector<ViewSpec>& views);
 
+WebConfig parse_web(const YamlReader& reader, const YAML::Node& node, const std::string& folder);
+
 std::vector<RobotModelEntry> parse_robot_models(const YamlReader& reader, const YAML::Node& node,
                                                 const std::vector<SourceEntry>& sources, const std::string& folder);
 

@@ -48,6 +48,18 @@ void check_listen_exposure(const DaemonConfig& config, const HostResolver& resol
   r.fail(listen ? listen : r.root(), "listen", refusal);
 }
 
+void check_web_exposure(const DaemonConfig& config, const HostResolver& resolve) {
+  if (!config.web.enabled) return;
+  const EndpointGuards endpoint{config.web.listen, config.tls.has_value(), !config.tokens.empty(),
+                                config.allow_insecure_remote};
+  const std::string refusal = exposure_refusal(endpoint, resolve);
+  if (refusal.empty()) return;
+  if (!config.reader) throw ConfigError(config.file + ": web.listen: " + refusal);
+  const YAML::Node web = config.reader->root()["web"];
+  const YAML::Node at = web && web.IsMap() && web["listen"] ? web["listen"] : (web ? web : config.reader->root());
+  config.reader->fail(at, "web.listen", refusal);
+}
+
 DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& folder, const ListenOptions& options) {
   using namespace config_parts;
   const auto shared = std::make_shared<const YamlReader>(reader);
@@ -55,7 +67,7 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   const YAML::Node root = r.root();
   if (!root.IsMap()) r.fail(root, "", "expected a map with listen, sources, views, ...");
   r.expect_keys(root, "", {"listen", "tls", "tokens", "allow_insecure_remote", "limits", "sources", "views",
-                          "robot_models", "views_file"});
+                          "robot_models", "views_file", "web"});
 
   DaemonConfig config;
   config.file = r.file();
@@ -78,9 +90,11 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
     apply_views_file(r, views_file, config.views_file, config.sources, config.limits, config.views);
   }
   config.robot_models = parse_robot_models(r, root["robot_models"], config.sources, folder);
+  config.web = parse_web(r, root["web"], folder);
   apply_listen_override(config, options.env, kListenEnv);
   apply_listen_override(config, options.flag, "--listen");
   check_listen_exposure(config, options.resolve);
+  check_web_exposure(config, options.resolve);
   return config;
 }
 
