@@ -7,6 +7,7 @@
 
 #include "server/exposure/host_port.h"
 #include "server/web/console/console_protocol.h"
+#include "server/web/foxglove/foxglove_protocol.h"
 #include "server/web/http/http_session.h"
 #include "server/web/upgrade/upgrade_request.h"
 
@@ -169,18 +170,29 @@ UpgradeDecision WebServer::upgrade(const Request& request, const std::string& pe
   d.subprotocol = up.answer;
   if (up.protocol == WsProtocol::kConsole) {
     d.make = [this, caller](std::shared_ptr<Connection> connection) -> std::unique_ptr<Protocol> {
-      {
-        std::lock_guard lock(live_mutex_);
-        std::erase_if(live_, [](const auto& w) { return w.expired(); });
-        live_.push_back(connection);
-      }
+      track(connection);
       return std::make_unique<ConsoleProtocol>(connection, context_, caller);
     };
     return d;
   }
-  d.status = 400;
-  d.message = "the Foxglove protocol is not served by this build";
+  if (!caller) {
+    d.status = 401;
+    d.message = "this daemon needs a token: connect to ws://HOST:PORT/?token=TOKEN (Foxglove and Lichtblick: "
+                "put it in the connection's URL), or send 'Authorization: Bearer TOKEN'";
+    log_refusal(peer, "a Foxglove client without a token");
+    return d;
+  }
+  d.make = [this, who = *caller](std::shared_ptr<Connection> connection) -> std::unique_ptr<Protocol> {
+    track(connection);
+    return std::make_unique<FoxgloveProtocol>(connection, context_, who);
+  };
   return d;
+}
+
+void WebServer::track(const std::shared_ptr<Connection>& connection) {
+  std::lock_guard lock(live_mutex_);
+  std::erase_if(live_, [](const auto& w) { return w.expired(); });
+  live_.push_back(connection);
 }
 
 void WebServer::log_refusal(const std::string& peer, const std::string& why) {

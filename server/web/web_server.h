@@ -57,6 +57,7 @@ class WebServer : public Endpoint {
   void accept();
   void on_accept(boost::beast::error_code ec, net::ip::tcp::socket socket);
   void log_refusal(const std::string& peer, const std::string& why);
+  void track(const std::shared_ptr<Connection>& connection);  // closed at stop()
   std::shared_ptr<void> take_slot();
 
   const WebConfig config_;

@@ -91,18 +91,20 @@ class Robot:
         credentials = self.dir / "credentials.yaml"
         mock_ready = self.dir / "mock_ready"
         self.mock_log = self.dir / "spot_mock.log"
-        self.mock = subprocess.Popen(
-            [self.args.spot_mock, "--port", "0", "--certs", str(certs), "--credentials", str(credentials),
-             "--ready-file", str(mock_ready), "--scene", "test", "--supersample", "1"],
-            stdout=self.mock_log.open("w"), stderr=subprocess.STDOUT)
+        with self.mock_log.open("w") as log:
+            self.mock = subprocess.Popen(
+                [self.args.spot_mock, "--port", "0", "--certs", str(certs), "--credentials", str(credentials),
+                 "--ready-file", str(mock_ready), "--scene", "test", "--supersample", "1"],
+                stdout=log, stderr=subprocess.STDOUT)
         mock_address = wait_for_file(mock_ready, seconds(60), "spot-mock", self.mock_log).split()[0]
         self.mock_port = int(mock_address.rsplit(":", 1)[1])
         config = self.dir / "omniviewd.yaml"
         config.write_text(daemon_config(self.mock_port, certs, credentials, self.tokens))
         ready = self.dir / "ready"
         self.log = self.dir / "omniviewd.log"
-        self.daemon = subprocess.Popen([self.args.omniviewd, "--config", str(config), "--ready-file", str(ready)],
-                                       stdout=self.log.open("w"), stderr=subprocess.STDOUT)
+        with self.log.open("w") as log:
+            self.daemon = subprocess.Popen([self.args.omniviewd, "--config", str(config), "--ready-file", str(ready)],
+                                           stdout=log, stderr=subprocess.STDOUT)
         lines = wait_for_file(ready, seconds(60), "omniviewd", self.log).split("\n")
         self.grpc = lines[0].strip()
         web = [l for l in lines if l.startswith("web ")]
