@@ -52,7 +52,7 @@ def wait_for_file(path, timeout, what, log=None):
 def daemon_config(mock_port, certs, credentials, tokens=True, web_listen="127.0.0.1:0", extra=""):
     text = f"""listen: 127.0.0.1:0
 web:
-  listen: {web_listen}
+  listen: "{web_listen}"
   max_message_bytes: 4096
 sources:
   - name: spot
@@ -80,10 +80,12 @@ views:
 class Robot:
     """spot-mock and omniviewd in front of it; `with Robot(args) as r:` stops both."""
 
-    def __init__(self, args, tokens=True):
+    def __init__(self, args, tokens=True, web_listen="127.0.0.1:0", extra=""):
         self.args = args
         self.dir = Path(tempfile.mkdtemp(prefix="omniview_web_"))
         self.tokens = tokens
+        self.web_listen = web_listen
+        self.extra = extra
         self.mock = self.daemon = None
 
     def __enter__(self):
@@ -99,7 +101,8 @@ class Robot:
         mock_address = wait_for_file(mock_ready, seconds(60), "spot-mock", self.mock_log).split()[0]
         self.mock_port = int(mock_address.rsplit(":", 1)[1])
         config = self.dir / "omniviewd.yaml"
-        config.write_text(daemon_config(self.mock_port, certs, credentials, self.tokens))
+        config.write_text(daemon_config(self.mock_port, certs, credentials, self.tokens, self.web_listen,
+                                        self.extra.replace("DIR", str(self.dir))))
         ready = self.dir / "ready"
         self.log = self.dir / "omniviewd.log"
         with self.log.open("w") as log:
