@@ -62,7 +62,12 @@ class CloudPanel {
       return;
     }
     this.THREE = THREE;
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    try {
+      this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    } catch (e) {
+      this.label.textContent = 'cloud: this browser offers no WebGL';
+      return;
+    }
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     this.el.prepend(this.renderer.domElement);
     this.scene = new THREE.Scene();

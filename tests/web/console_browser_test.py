@@ -166,6 +166,36 @@ class ConsoleBrowserTest(unittest.TestCase):
         self.assertEqual(len(boxes), 2)
         self.assertTrue(all(h > 150 for h in boxes), boxes)
 
+    def test_tap_on_the_birdseye_turns_the_front_view_there(self):
+        driver = self.open(OPERATOR_TOKEN, "?layout=split")
+        self.wait_live(driver, "birdseye")
+        self.wait_live(driver, "front")
+        rect = driver.execute_script(
+            "return omniviewConsole.panes.find(p => p.view === 'birdseye').rect")
+        pane = driver.find_element(By.CSS_SELECTOR, '.pane[data-view="birdseye"]')
+        size = pane.size
+        # Ahead and to the left of the robot (forward is up in the bird's-eye, left is left).
+        x = rect["x"] + rect["w"] * 0.25 - size["width"] / 2
+        y = rect["y"] + rect["h"] * 0.2 - size["height"] / 2
+        ActionChains(driver).move_to_element_with_offset(pane, x, y).click().perform()
+        yaw, pitch = wait_until(lambda: (lambda yp: yp if yp[0] > 20 else None)(self.robot.yaw_pitch("front")),
+                                seconds(5), "the front view turned left toward the tapped ground")
+        self.assertLess(yaw, 70)
+        self.assertGreater(pitch, 0, "looks down at the ground")
+        print(f"tap-to-look: front now yaw {yaw:.1f}, pitch {pitch:.1f}", file=sys.stderr)
+
+    def test_paper_layout_cloud_and_backward_camera(self):
+        driver = self.open(OPERATOR_TOKEN, "?layout=paper")
+        wait_until(lambda: driver.execute_script("return omniviewConsole.cloud && omniviewConsole.cloud.points"),
+                   seconds(20), "points in the cloud panel")
+        self.wait_live(driver, "front")
+        self.wait_live(driver, "console_back")
+        self.assertIn("console_back", self.robot.cli("views", "list"))
+        yaw_back, _ = self.robot.yaw_pitch("console_back")
+        self.assertAlmostEqual(abs(yaw_back - self.robot.yaw_pitch("front")[0]), 180, delta=0.01)
+        if ARGS.screenshot:
+            driver.save_screenshot(str(Path(ARGS.screenshot).with_name("console_paper.png")))
+
     def test_zz_daemon_survives_a_page_closed_mid_stream(self):
         driver = browser()
         driver.get(self.url + "?layout=split#token=" + OPERATOR_TOKEN)
