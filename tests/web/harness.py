@@ -80,12 +80,14 @@ views:
 class Robot:
     """spot-mock and omniviewd in front of it; `with Robot(args) as r:` stops both."""
 
-    def __init__(self, args, tokens=True, web_listen="127.0.0.1:0", extra=""):
+    def __init__(self, args, tokens=True, web_listen="127.0.0.1:0", extra="", edit_config=None, scene="test"):
         self.args = args
         self.dir = Path(tempfile.mkdtemp(prefix="omniview_web_"))
         self.tokens = tokens
         self.web_listen = web_listen
         self.extra = extra
+        self.edit_config = edit_config or (lambda text: text)
+        self.scene = scene
         self.mock = self.daemon = None
 
     def __enter__(self):
@@ -96,13 +98,13 @@ class Robot:
         with self.mock_log.open("w") as log:
             self.mock = subprocess.Popen(
                 [self.args.spot_mock, "--port", "0", "--certs", str(certs), "--credentials", str(credentials),
-                 "--ready-file", str(mock_ready), "--scene", "test", "--supersample", "1"],
+                 "--ready-file", str(mock_ready), "--scene", self.scene, "--supersample", "1"],
                 stdout=log, stderr=subprocess.STDOUT)
         mock_address = wait_for_file(mock_ready, seconds(60), "spot-mock", self.mock_log).split()[0]
         self.mock_port = int(mock_address.rsplit(":", 1)[1])
         config = self.dir / "omniviewd.yaml"
-        config.write_text(daemon_config(self.mock_port, certs, credentials, self.tokens, self.web_listen,
-                                        self.extra.replace("DIR", str(self.dir))))
+        config.write_text(self.edit_config(daemon_config(self.mock_port, certs, credentials, self.tokens,
+                                                         self.web_listen, self.extra.replace("DIR", str(self.dir)))))
         ready = self.dir / "ready"
         self.log = self.dir / "omniviewd.log"
         with self.log.open("w") as log:
