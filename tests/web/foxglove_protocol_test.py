@@ -162,6 +162,30 @@ class FoxgloveProtocolTest(unittest.TestCase):
                     await asyncio.sleep(0.1)
         run(go())
 
+    def test_views_created_and_deleted_are_advertised(self):
+        async def go():
+            async with Client(self.url) as c:
+                self.robot.cli("views", "create", "--set", "name=side", "--set", "type=perspective",
+                               "--set", "source=spot", "--set", "width=64", "--set", "height=48")
+                try:
+                    new = None
+                    while not new:
+                        msg = json.loads(await asyncio.wait_for(c.ws.recv(), seconds(5)))
+                        if msg["op"] == "advertise":
+                            new = {ch["topic"]: ch for ch in msg["channels"]}
+                    self.assertEqual(sorted(new), ["/side/calibration", "/side/image"])
+                    await c.ws.send(json.dumps({"op": "subscribe", "subscriptions": [
+                        {"id": 9, "channelId": new["/side/image"]["id"]}]}))
+                finally:
+                    self.robot.cli("views", "delete", "side")
+                while True:
+                    raw = await asyncio.wait_for(c.ws.recv(), seconds(5))
+                    if isinstance(raw, str) and json.loads(raw)["op"] == "unadvertise":
+                        self.assertEqual(sorted(json.loads(raw)["channelIds"]),
+                                         sorted(ch["id"] for ch in new.values()))
+                        break
+        run(go())
+
     def test_tokens_are_required_and_roles_reported(self):
         async def go():
             bare = f"ws://{self.robot.web}/"

@@ -14,6 +14,22 @@ namespace omniview::web {
 namespace {
 
 constexpr int kMaxCallsInFlight = 4;  // per client: a joystick waits for its reply before the next step
+constexpr auto kAuthTimeout = std::chrono::seconds(10);  // a connection that never authenticates is closed
+
+// What a subscription that ended on its own (its view deleted, the daemon stopping) tells
+// the client; nothing when the client unsubscribed.
+std::function<void()> ended_notice(std::weak_ptr<Connection> connection, uint32_t channel,
+                                   std::shared_ptr<std::atomic<bool>> stopping,
+                                   std::function<std::pair<grpc::StatusCode, std::string>()> why) {
+  return [connection = std::move(connection), channel, stopping = std::move(stopping), why = std::move(why)] {
+    if (*stopping) return;
+    const auto [code, reason] = why();
+    if (const auto c = connection.lock()) {
+      c->send_text("{\"op\":\"ended\",\"channel\":" + std::to_string(channel) + ",\"error\":{\"code\":" +
+                   json::quote(code_name(code)) + ",\"message\":" + json::quote(reason) + "}}");
+    }
+  };
+}
 
 const char* const kOps = "auth, call, subscribe, subscribe_cloud, unsubscribe";
 
@@ -57,6 +73,14 @@ void ConsoleProtocol::on_open() {
                       ",\"auth\":" + json::quote(need ? "required" : "done");
   if (caller_) hello += ",\"role\":" + json::quote(to_string(caller_->role));
   send(hello + "}");
+  if (need) {
+    if (const auto c = connection_.lock()) {
+      c->after(kAuthTimeout, [this] {
+        if (caller_) return;
+        if (const auto conn = connection_.lock()) conn->close(1008, "no auth message within 10 s");
+      });
+    }
+  }
 }
 
 void ConsoleProtocol::on_message(std::string_view data, bool binary) {
@@ -193,14 +217,9 @@ void ConsoleProtocol::subscribe(const json::Struct& message, std::optional<int64
     return item;
   };
   source.sent = [sub = subscriber] { sub->count_sent(); };
-  source.ended = [sub = subscriber, stopping = ch.stopping, connection = connection_, channel] {
-    if (*stopping) return;  // we unsubscribed: nothing to tell
-    if (const auto c = connection.lock()) {
-      c->send_text("{\"op\":\"ended\",\"channel\":" + std::to_string(channel) + ",\"error\":{\"code\":" +
-                   json::quote(code_name(sub->close_code())) + ",\"message\":" + json::quote(sub->close_reason()) +
-                   "}}");
-    }
-  };
+  source.ended = ended_notice(connection_, channel, ch.stopping, [sub = subscriber] {
+    return std::make_pair(sub->close_code(), sub->close_reason());
+  });
   source.interrupt = [sub = subscriber] { sub->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
   ch.pump = std::make_unique<Pump>(connection_, channel, std::move(source));
   channels_.emplace(channel, std::move(ch));
@@ -239,14 +258,9 @@ void ConsoleProtocol::subscribe_cloud(const json::Struct& message, std::optional
     return item;
   };
   source.sent = [sub = subscriber] { sub->count_sent(); };
-  source.ended = [sub = subscriber, stopping = ch.stopping, connection = connection_, channel] {
-    if (*stopping) return;
-    if (const auto c = connection.lock()) {
-      c->send_text("{\"op\":\"ended\",\"channel\":" + std::to_string(channel) + ",\"error\":{\"code\":" +
-                   json::quote(code_name(sub->close_code())) + ",\"message\":" + json::quote(sub->close_reason()) +
-                   "}}");
-    }
-  };
+  source.ended = ended_notice(connection_, channel, ch.stopping, [sub = subscriber] {
+    return std::make_pair(sub->close_code(), sub->close_reason());
+  });
   source.interrupt = [sub = subscriber] { sub->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
   ch.pump = std::make_unique<Pump>(connection_, channel, std::move(source));
   channels_.emplace(channel, std::move(ch));

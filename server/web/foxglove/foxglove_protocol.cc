@@ -13,6 +13,7 @@ namespace omniview::web {
 namespace {
 
 constexpr auto kTransformPeriod = std::chrono::seconds(1);
+constexpr auto kReadvertisePeriod = std::chrono::seconds(2);
 
 // The /tf channel's clock: a FrameTransforms message now, then once a period; interrupt()
 // ends a wait at once.
@@ -81,29 +82,54 @@ void FoxgloveProtocol::on_open() {
 }
 
 void FoxgloveProtocol::advertise() {
-  uint32_t next = 1;
-  std::string list;
-  const auto add = [&](Kind kind, const std::string& target, const std::string& topic,
-                       const google::protobuf::Descriptor* type) {
-    channels_[next] = Channel{kind, target, topic, type->full_name()};
-    list += (list.empty() ? "" : ",") + channel_json(next, topic, type);
-    ++next;
+  struct Wanted {
+    Kind kind;
+    std::string target;
+    const google::protobuf::Descriptor* type;
   };
+  std::map<std::string, Wanted> wanted;  // by topic
   for (const auto& view : context_.pipeline.list_views()) {
     const std::string& name = view.spec().name();
-    add(Kind::kImage, name, "/" + name + "/image", foxglove::CompressedImage::descriptor());
+    wanted["/" + name + "/image"] = {Kind::kImage, name, foxglove::CompressedImage::descriptor()};
     if (view.intrinsics_size() == 4) {
-      add(Kind::kCalibration, name, "/" + name + "/calibration", foxglove::CameraCalibration::descriptor());
+      wanted["/" + name + "/calibration"] = {Kind::kCalibration, name, foxglove::CameraCalibration::descriptor()};
     }
   }
   const v1::Status status = context_.pipeline.status();  // alive through the loop
   for (const auto& source : status.sources()) {
     if (context_.pipeline.provides_clouds(source.name())) {
-      add(Kind::kCloud, source.name(), "/" + source.name() + "/cloud", foxglove::PointCloud::descriptor());
+      wanted["/" + source.name() + "/cloud"] = {Kind::kCloud, source.name(), foxglove::PointCloud::descriptor()};
     }
   }
-  add(Kind::kTransforms, "", "/tf", foxglove::FrameTransforms::descriptor());
-  send("{\"op\":\"advertise\",\"channels\":[" + list + "]}");
+  wanted["/tf"] = {Kind::kTransforms, "", foxglove::FrameTransforms::descriptor()};
+
+  // Channels of views deleted (or renamed) since: unadvertised, their subscriptions ended.
+  std::string gone;
+  for (auto it = channels_.begin(); it != channels_.end();) {
+    const auto w = wanted.find(it->second.topic);
+    if (w != wanted.end() && w->second.kind == it->second.kind) {
+      wanted.erase(w);  // still there: advertised already
+      ++it;
+      continue;
+    }
+    std::vector<uint32_t> ended;
+    for (const auto& [id, sub] : subscriptions_) {
+      if (sub.channel == it->first) ended.push_back(id);
+    }
+    for (const uint32_t id : ended) stop(id);
+    gone += (gone.empty() ? "" : ",") + std::to_string(it->first);
+    it = channels_.erase(it);
+  }
+  if (!gone.empty()) send("{\"op\":\"unadvertise\",\"channelIds\":[" + gone + "]}");
+  std::string list;
+  for (const auto& [topic, w] : wanted) {
+    const uint32_t id = next_channel_++;
+    channels_[id] = Channel{w.kind, w.target, topic, w.type->full_name()};
+    list += (list.empty() ? "" : ",") + channel_json(id, topic, w.type);
+  }
+  if (!list.empty()) send("{\"op\":\"advertise\",\"channels\":[" + list + "]}");
+  // Views come and go at run time (CreateView, DeleteView): look again in a while.
+  if (const auto c = connection_.lock()) c->after(kReadvertisePeriod, [this] { advertise(); });
 }
 
 void FoxgloveProtocol::on_message(std::string_view data, bool binary) {

@@ -49,6 +49,8 @@ class FoxgloveProtocol : public Protocol {
     std::function<void()> release;
   };
 
+  // Advertises the channels not advertised yet and unadvertises those gone; again every
+  // few seconds, so views created or deleted at run time show up.
   void advertise();
   void subscribe(const json::Struct& message);
   void unsubscribe(const json::Struct& message);
@@ -64,6 +66,7 @@ class FoxgloveProtocol : public Protocol {
   std::string peer_;
   std::map<uint32_t, Channel> channels_;
   std::map<uint32_t, Subscription> subscriptions_;
+  uint32_t next_channel_ = 1;
   bool closed_ = false;
 };
 

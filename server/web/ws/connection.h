@@ -5,6 +5,7 @@
 // never wait on a client's network.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -36,6 +37,9 @@ class Connection {
   // Closes the WebSocket with `code` (RFC 6455: 1000 normal, 1008 policy, 1009 too big,
   // 1011 server error) and `reason` (cut to 123 bytes, the protocol's limit).
   virtual void close(uint16_t code, std::string reason) = 0;
+  // Runs `task` on the connection's I/O thread after `delay`, unless the connection has
+  // ended by then (timeouts, periodic checks of the protocols).
+  virtual void after(std::chrono::milliseconds delay, std::function<void()> task) = 0;
   // "ipv4:127.0.0.1:54321": the client, for logs and GetStatus.
   virtual const std::string& peer() const = 0;
 };

@@ -11,6 +11,7 @@
 #include <string>
 
 #include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
@@ -83,6 +84,16 @@ class WsSession : public Connection, public std::enable_shared_from_this<WsSessi
   void close(uint16_t code, std::string reason) override {
     net::post(ws_.get_executor(), [self = this->shared_from_this(), code, reason = std::move(reason)]() {
       self->begin_close(code, reason);
+    });
+  }
+
+  void after(std::chrono::milliseconds delay, std::function<void()> task) override {
+    net::post(ws_.get_executor(), [self = this->shared_from_this(), delay, task = std::move(task)]() mutable {
+      if (self->finished_) return;
+      auto timer = std::make_shared<net::steady_timer>(self->ws_.get_executor(), delay);
+      timer->async_wait([self, timer, task = std::move(task)](beast::error_code ec) {
+        if (!ec && !self->finished_) task();
+      });
     });
   }
 
