@@ -53,6 +53,12 @@ function lookTarget() {
   return any ? any.spec.name : null;
 }
 
+// The view of that name if there is one, else the first of that type, else the first.
+function pickView(type, name) {
+  if (spec(name)) return name;
+  return (app.views.find((v) => v.spec.type === type) || app.views[0] || { spec: {} }).spec.name;
+}
+
 function addPane(view, hint) {
   const s = spec(view);
   const birdseye = s && s.type === 'BIRDSEYE';
@@ -92,15 +98,14 @@ async function setLayout(layout, view) {
   app.layout = layout;
   $('panes').className = layout;
   for (const b of document.querySelectorAll('#layouts button')) b.classList.toggle('active', b.dataset.layout === layout);
-  const first = (type) => (app.views.find((v) => v.spec.type === type) || app.views[0] || { spec: {} }).spec.name;
   if (layout === 'split') {
-    addPane(first('BIRDSEYE'));
-    addPane(first('PERSPECTIVE'));
+    addPane(pickView('BIRDSEYE', 'birdseye'));
+    addPane(pickView('PERSPECTIVE', 'front'));
   } else if (layout === 'paper') {
     const { startPaper } = await import('./paper.js');
-    app.cloud = await startPaper(app, addPane, toast);
+    app.cloud = await startPaper(app, addPane, toast, pickView('PERSPECTIVE', 'front'));
   } else {
-    addPane(view || $('view-select').value || first('PERSPECTIVE'));
+    addPane(view || $('view-select').value || pickView('PERSPECTIVE', 'front'));
   }
   const url = new URL(location.href);
   url.searchParams.set('layout', layout);

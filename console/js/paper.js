@@ -3,8 +3,8 @@
 // /javascript/), a forward and a backward virtual camera below.
 const BACK_VIEW = 'console_back';
 
-export async function startPaper(app, addPane, toast) {
-  const forward = (app.views.find((v) => v.spec.type === 'PERSPECTIVE') || app.views[0]).spec;
+export async function startPaper(app, addPane, toast, forwardName) {
+  const forward = app.views.find((v) => v.spec.name === forwardName).spec;
   const cloud = new CloudPanel(app.link, document.getElementById('panes'), toast);
   await cloud.start();
   addPane(forward.name);

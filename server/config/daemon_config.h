@@ -67,7 +67,9 @@ struct WebConfig {
   std::string listen = "127.0.0.1:8765";  // host:port (8765: what Foxglove clients try first)
   std::string console_dir;                // empty: the installed console, else the source tree's
   std::string javascript_dir = "/usr/share/javascript";  // Debian's JS libraries (libjs-three)
-  int max_connections = 16;               // WebSocket and HTTP connections at once
+  // WebSocket and HTTP connections at once (a browser keeps ~6 HTTP connections per page
+  // open a while, so room for a few pages each).
+  int max_connections = 64;
   int max_message_bytes = 64 << 10;       // largest message a client may send
   int max_pending_bytes = 16 << 20;       // unsent replies to one client before it is dropped
   YAML::Node listen_node;                 // for errors found at start (address in use)

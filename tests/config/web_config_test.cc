@@ -29,7 +29,7 @@ TEST(WebConfig, OffWithoutABlockAndOnWithOne) {
   const auto config = parse("web: {listen: '127.0.0.1:0'}\n");
   EXPECT_TRUE(config.web.enabled);
   EXPECT_EQ(config.web.listen, "127.0.0.1:0");
-  EXPECT_EQ(config.web.max_connections, 16);
+  EXPECT_EQ(config.web.max_connections, 64);
   EXPECT_EQ(config.web.max_message_bytes, 64 << 10);
   EXPECT_EQ(config.web.javascript_dir, "/usr/share/javascript");
   EXPECT_FALSE(parse("web: {enabled: false, listen: '0.0.0.0:80'}\n").web.enabled);  // off: never judged

@@ -6,6 +6,7 @@ import json
 import socket
 import subprocess
 import sys
+import time
 import unittest
 import urllib.error
 import urllib.request
@@ -174,6 +175,36 @@ class BadInputTest(unittest.TestCase):
         self.assertEqual(e.exception.status_code, 400)
         with urllib.request.urlopen(base + "/", timeout=seconds(5)) as r:
             self.assertIn(b"omniview console", r.read())
+
+    def test_connections_beyond_the_limit_are_closed(self):
+        host, port = self.robot.web.rsplit(":", 1)
+        held = [socket.create_connection((host, int(port)), timeout=seconds(5)) for _ in range(40)]
+        answered = 0
+        try:
+            for s in held:
+                s.sendall(b"GET / HTTP/1.1\r\nHost: x\r\n\r\n")
+            for s in held:
+                try:
+                    answered += s.recv(12).startswith(b"HTTP/1.1 200")
+                except ConnectionResetError:
+                    pass
+        finally:
+            for s in held:
+                s.close()
+        self.assertLessEqual(answered, 32, "web.max_connections is 32")
+        self.assertGreaterEqual(answered, 28, "the others were served")
+        self.assertIn("web.max_connections (32) reached", self.robot.log.read_text())
+        # The places come back once those connections close.
+        deadline = time.monotonic() + seconds(5)
+        while True:
+            try:
+                with urllib.request.urlopen(f"http://{self.robot.web}/", timeout=seconds(5)) as r:
+                    if r.status == 200:
+                        break
+            except (urllib.error.URLError, ConnectionError):
+                pass
+            self.assertLess(time.monotonic(), deadline, "served again once the others closed")
+            time.sleep(0.1)
 
     def test_non_loopback_web_without_tls_is_refused_at_start(self):
         d = self.robot.dir

@@ -186,6 +186,7 @@ class ConsoleBrowserTest(unittest.TestCase):
 
     def test_paper_layout_cloud_and_backward_camera(self):
         driver = self.open(OPERATOR_TOKEN, "?layout=paper")
+        self.addCleanup(lambda: self.robot.cli("views", "delete", "console_back"))
         wait_until(lambda: driver.execute_script("return omniviewConsole.cloud && omniviewConsole.cloud.points"),
                    seconds(20), "points in the cloud panel")
         self.wait_live(driver, "front")
@@ -195,6 +196,18 @@ class ConsoleBrowserTest(unittest.TestCase):
         self.assertAlmostEqual(abs(yaw_back - self.robot.yaw_pitch("front")[0]), 180, delta=0.01)
         if ARGS.screenshot:
             driver.save_screenshot(str(Path(ARGS.screenshot).with_name("console_paper.png")))
+
+    def test_gamepad_steers(self):
+        driver = self.open(OPERATOR_TOKEN)
+        self.wait_live(driver)
+        yaw0, pitch0 = self.robot.yaw_pitch("front")
+        # A gamepad whose left stick is held left: the Gamepad API as the page reads it.
+        driver.execute_script("""
+            const pad = {connected: true, axes: [-1, 0, 0, 0], buttons: []};
+            navigator.getGamepads = () => [pad];
+            setTimeout(() => { pad.axes[0] = 0; }, 500);""")
+        wait_until(lambda: self.robot.yaw_pitch("front")[0] > yaw0 + 10, seconds(5), "the stick turning the view left")
+        self.assertEqual(self.robot.yaw_pitch("front")[1], pitch0)
 
     def test_zz_daemon_survives_a_page_closed_mid_stream(self):
         driver = browser()

@@ -54,6 +54,7 @@ def daemon_config(mock_port, certs, credentials, tokens=True, web_listen="127.0.
 web:
   listen: "{web_listen}"
   max_message_bytes: 4096
+  max_connections: 32
 sources:
   - name: spot
     type: spot

@@ -45,7 +45,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     parser_.emplace();
     parser_->header_limit(8 << 10);
     parser_->body_limit(endpoint_.ws_limits().max_message_bytes);
-    beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(30));
+    // An idle keep-alive connection gives its place back soon (web.max_connections).
+    beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(15));
     http::async_read(stream_, buffer_, *parser_,
                      beast::bind_front_handler(&HttpSession::on_read, this->shared_from_this()));
   }
