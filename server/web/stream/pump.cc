@@ -6,22 +6,24 @@ namespace {
 constexpr auto kPoll = std::chrono::milliseconds(100);  // how often a waiting take() checks for stop
 }
 
-Pump::Pump(std::weak_ptr<Connection> connection, uint32_t channel, Source source)
-    : connection_(std::move(connection)), channel_(channel), source_(std::move(source)) {
-  thread_ = std::thread([this] { run(); });
+Pump::Pump(std::weak_ptr<Connection> connection, uint32_t channel, Source source) {
+  core_->connection = std::move(connection);
+  core_->channel = channel;
+  core_->source = std::move(source);
+  thread_ = std::thread([core = core_] { run(core); });
 }
 
 Pump::~Pump() { stop(); }
 
 void Pump::stop() {
   {
-    std::lock_guard lock(state_->mutex);
-    state_->stop = true;
+    std::lock_guard lock(core_->mutex);
+    core_->stop = true;
   }
-  state_->changed.notify_all();
-  if (source_.interrupt) source_.interrupt();
+  core_->changed.notify_all();
+  if (core_->source.interrupt) core_->source.interrupt();
   if (thread_.joinable()) {
-    // A pump that ends itself (its view deleted) may be stopped from its own thread.
+    // Stopped from its own thread (see Core): it exits at its next check of `stop`.
     if (thread_.get_id() == std::this_thread::get_id()) {
       thread_.detach();
     } else {
@@ -30,39 +32,41 @@ void Pump::stop() {
   }
 }
 
-void Pump::run() {
+void Pump::run(const std::shared_ptr<Core>& core) {
   while (true) {
     {
-      std::lock_guard lock(state_->mutex);
-      if (state_->stop) return;
+      std::lock_guard lock(core->mutex);
+      if (core->stop) return;
     }
-    Item item = source_.take(kPoll);
+    Item item = core->source.take(kPoll);
     if (item.kind == Item::kNothing) continue;
     if (item.kind == Item::kEnd) {
-      if (source_.ended) source_.ended();
+      if (core->source.ended) core->source.ended();
       return;
     }
-    const auto connection = connection_.lock();
-    if (!connection) return;
     {
-      std::lock_guard lock(state_->mutex);
-      if (state_->stop) return;
-      state_->in_flight = true;
+      std::lock_guard lock(core->mutex);
+      if (core->stop) return;
+      core->in_flight = true;
     }
-    connection->send_latest(channel_, std::move(item.message), [state = state_](bool written) {
-      {
-        std::lock_guard lock(state->mutex);
-        state->in_flight = false;
-        state->written = written;
-      }
-      state->changed.notify_all();
-    });
-    std::unique_lock lock(state_->mutex);
-    state_->changed.wait(lock, [&] { return !state_->in_flight || state_->stop; });
-    if (state_->stop) return;
-    const bool written = state_->written;
+    {
+      const auto connection = core->connection.lock();
+      if (!connection) return;
+      connection->send_latest(core->channel, std::move(item.message), [core](bool written) {
+        {
+          std::lock_guard lock(core->mutex);
+          core->in_flight = false;
+          core->written = written;
+        }
+        core->changed.notify_all();
+      });
+    }  // may have been the connection's last owner: this Pump may be gone now, `core` is not
+    std::unique_lock lock(core->mutex);
+    core->changed.wait(lock, [&] { return !core->in_flight || core->stop; });
+    if (core->stop) return;
+    const bool written = core->written;
     lock.unlock();
-    if (written && source_.sent) source_.sent();
+    if (written && core->source.sent) core->source.sent();
   }
 }
 

@@ -42,19 +42,22 @@ class Pump {
   void stop();
 
  private:
-  struct State {
+  // Everything the thread uses, owned by it and the Pump together: when the thread itself
+  // drops the last reference to the connection, the connection's end destroys this Pump
+  // on the thread, which must then find its state still there (it detaches, and exits).
+  struct Core {
+    std::weak_ptr<Connection> connection;
+    uint32_t channel = 0;
+    Source source;
     std::mutex mutex;
     std::condition_variable changed;
     bool in_flight = false;
     bool written = false;
     bool stop = false;
   };
-  void run();
+  static void run(const std::shared_ptr<Core>& core);
 
-  std::weak_ptr<Connection> connection_;
-  const uint32_t channel_;
-  Source source_;
-  std::shared_ptr<State> state_ = std::make_shared<State>();
+  std::shared_ptr<Core> core_ = std::make_shared<Core>();
   std::thread thread_;
 };
 
