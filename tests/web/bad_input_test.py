@@ -176,6 +176,48 @@ class BadInputTest(unittest.TestCase):
         with urllib.request.urlopen(base + "/", timeout=seconds(5)) as r:
             self.assertIn(b"omniview console", r.read())
 
+    def test_a_client_that_never_reads_slows_nobody(self):
+        host, port = self.robot.web.rsplit(":", 1)
+        stalled = socket.socket()
+        stalled.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+        stalled.settimeout(seconds(5))
+        stalled.connect((host, int(port)))
+        stalled.sendall(("GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                         "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+                         f"Authorization: Bearer {VIEWER_TOKEN}\r\n\r\n").encode())
+        answer = b""
+        while b"\r\n\r\n" not in answer:
+            answer += stalled.recv(1)
+        self.assertTrue(answer.startswith(b"HTTP/1.1 101"), answer)
+        # One masked text frame (clients must mask): subscribe to RAW frames, then never read.
+        payload = json.dumps({"op": "subscribe", "id": 1, "view": "front", "encoding": "RAW"}).encode()
+        mask = b"\x01\x02\x03\x04"
+        stalled.sendall(bytes([0x81, 0x80 | len(payload)]) + mask +
+                        bytes(b ^ mask[i % 4] for i, b in enumerate(payload)))
+
+        async def go():
+            ws = await self.console(VIEWER_TOKEN)
+            await asyncio.sleep(seconds(3))  # the stalled socket's buffers fill up
+            await ws.send(json.dumps({"op": "subscribe", "id": 2, "view": "front"}))
+            await self.reply(ws)
+            t0, n = time.monotonic(), 0
+            while time.monotonic() - t0 < 2:
+                if isinstance(await asyncio.wait_for(ws.recv(), seconds(5)), bytes):
+                    n += 1
+            rate = n / (time.monotonic() - t0)
+            await ws.send(json.dumps({"op": "call", "id": 3, "method": "GetStatus"}))
+            status = (await self.reply(ws))["response"]
+            await ws.close()
+            return rate, status
+        rate, status = asyncio.run(go())
+        stalled.close()
+        self.assertGreater(rate, 10 / harness.time_scale(), "a reading client keeps the robot's 15 Hz")
+        raw = [c for c in status["clients"] if c["encoding"] == "raw"]
+        self.assertEqual(len(raw), 1, status["clients"])
+        self.assertGreater(int(raw[0]["framesDropped"]), 10, "the stalled client's frames are dropped, not queued")
+        print(f"beside a stalled client: {rate:.1f} fps; the stalled one sent {raw[0]['framesSent']}, "
+              f"dropped {raw[0]['framesDropped']}", file=sys.stderr)
+
     def test_connections_beyond_the_limit_are_closed(self):
         host, port = self.robot.web.rsplit(":", 1)
         held = [socket.create_connection((host, int(port)), timeout=seconds(5)) for _ in range(40)]
