@@ -17,7 +17,11 @@ export function attachGestures(element, handlers) {
   };
 
   element.addEventListener('pointerdown', (e) => {
-    element.setPointerCapture(e.pointerId);
+    try {
+      element.setPointerCapture(e.pointerId);  // keep the drag when the finger leaves the pane
+    } catch (err) {
+      // not an active pointer (a synthesised event): the drag still works inside the pane
+    }
     pointers.set(e.pointerId, { x: e.clientX, y: e.clientY, startX: e.clientX, startY: e.clientY });
     if (pointers.size === 1) moved = false;
     if (pointers.size === 2) pinchDistance = distance();

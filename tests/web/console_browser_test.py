@@ -197,6 +197,31 @@ class ConsoleBrowserTest(unittest.TestCase):
         if ARGS.screenshot:
             driver.save_screenshot(str(Path(ARGS.screenshot).with_name("console_paper.png")))
 
+    def test_pinch_zooms_and_double_tap_recentres(self):
+        driver = self.open(OPERATOR_TOKEN)
+        self.wait_live(driver)
+        hfov0 = driver.execute_script("return omniviewConsole.panes[0].header.camera.spec.hfovDeg")
+        # Two fingers moving apart, as touch pointer events.
+        driver.execute_script("""
+            const el = document.querySelector('.pane[data-view="front"]');
+            const r = el.getBoundingClientRect(), cx = r.left + r.width / 2, cy = r.top + r.height / 2;
+            const ev = (type, id, x) => el.dispatchEvent(new PointerEvent(type, {pointerId: id, pointerType: 'touch',
+                clientX: x, clientY: cy, bubbles: true, isPrimary: id === 1}));
+            ev('pointerdown', 1, cx - 20); ev('pointerdown', 2, cx + 20);
+            for (let d = 30; d <= 120; d += 10) { ev('pointermove', 1, cx - d); ev('pointermove', 2, cx + d); }
+            ev('pointerup', 1, cx - 120); ev('pointerup', 2, cx + 120);""")
+        wait_until(lambda: driver.execute_script("return omniviewConsole.panes[0].header.camera.spec.hfovDeg") < hfov0 - 10,
+                   seconds(5), "a frame rendered with the pinched hfov")
+        # Double tap: back to the view as the page first saw it.
+        driver.execute_script("""
+            const el = document.querySelector('.pane[data-view="front"]');
+            const r = el.getBoundingClientRect(), x = r.left + 50, y = r.top + 50;
+            for (let i = 0; i < 2; i++) for (const type of ['pointerdown', 'pointerup'])
+              el.dispatchEvent(new PointerEvent(type, {pointerId: 7, pointerType: 'touch', clientX: x, clientY: y,
+                                                       bubbles: true, isPrimary: true}));""")
+        wait_until(lambda: abs(driver.execute_script("return omniviewConsole.panes[0].header.camera.spec.hfovDeg") - hfov0)
+                   < 0.01, seconds(5), "the hfov back after a double tap")
+
     def test_gamepad_steers(self):
         driver = self.open(OPERATOR_TOKEN)
         self.wait_live(driver)
