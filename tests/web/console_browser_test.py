@@ -222,6 +222,27 @@ class ConsoleBrowserTest(unittest.TestCase):
         wait_until(lambda: abs(driver.execute_script("return omniviewConsole.panes[0].header.camera.spec.hfovDeg") - hfov0)
                    < 0.01, seconds(5), "the hfov back after a double tap")
 
+    def test_robot_away_shows_the_banner_and_snapshot_downloads(self):
+        driver = self.open(OPERATOR_TOKEN)
+        self.wait_live(driver)
+        downloads = self.robot.dir / "downloads"
+        downloads.mkdir(exist_ok=True)
+        driver.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": str(downloads)})
+        driver.find_element(By.ID, "snapshot").click()
+        jpeg = wait_until(lambda: [p for p in downloads.glob("front-*.jpg") if p.stat().st_size > 0], seconds(5),
+                          "the snapshot downloaded")[0]
+        self.assertEqual(jpeg.read_bytes()[:2], b"\xff\xd8")
+        self.robot.mock_control("--set", "away=true")
+        try:
+            banner = wait_until(lambda: (lambda b: b.text if b.is_displayed() else None)(
+                driver.find_element(By.ID, "banner")), seconds(10), "the disconnected/stale banner")
+            self.assertTrue("Robot disconnected" in banner or "Not live" in banner, banner)
+            wait_until(lambda: driver.find_element(By.CSS_SELECTOR, '.pane[data-view="front"] .stale').is_displayed(),
+                       seconds(10), "the pane marked stale (Frame.stale)")
+        finally:
+            self.robot.mock_control("--set", "away=false")
+        wait_until(lambda: not driver.find_element(By.ID, "banner").is_displayed(), seconds(15), "live again")
+
     def test_gamepad_steers(self):
         driver = self.open(OPERATOR_TOKEN)
         self.wait_live(driver)

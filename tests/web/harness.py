@@ -157,3 +157,10 @@ class Robot:
 
     def status(self):
         return self.cli("status")
+
+    def mock_control(self, *args):
+        """`spot-mock control ARGS` against this mock (faults: --set away=true, ...)."""
+        r = subprocess.run([self.args.spot_mock, "control", "--port", str(self.mock_port), "--certs",
+                            str(self.dir / "certs"), *args], capture_output=True, text=True, timeout=seconds(30))
+        assert r.returncode == 0, r.stdout + r.stderr
+        return r.stdout
