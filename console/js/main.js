@@ -129,16 +129,20 @@ function showStatus(st) {
   const el = $('status');
   const src = (st.sources || [])[0];
   const parts = [];
+  // Text nodes only: view and source names come from the daemon (any operator can name a view).
   if (src) {
     el.dataset.connected = String(!!src.connected);
     el.dataset.sourceRate = String(src.rateHz || 0);
-    parts.push(`<span class="dot${src.connected ? ' on' : ''}"></span>${src.name} ${(src.rateHz || 0).toFixed(1)} Hz`);
+    const dot = document.createElement('span');
+    dot.className = 'dot' + (src.connected ? ' on' : '');
+    parts.push(dot, `${src.name} ${(src.rateHz || 0).toFixed(1)} Hz`);
   }
   for (const p of app.panes) {
     const age = p.ageMs();
+    if (parts.length) parts.push('\u2003|\u2003');
     parts.push(`${p.view} ${p.fps().toFixed(1)} fps · ${age === null ? '–' : Math.round(age) + ' ms'} · dropped ${p.skipped}`);
   }
-  el.innerHTML = parts.join(' &nbsp;|&nbsp; ');
+  el.replaceChildren(...parts);
   const down = (st.sources || []).filter((s) => !s.connected);
   const stale = app.panes.find((p) => p.header && p.header.stale);
   const banner = $('banner');
