@@ -260,6 +260,13 @@ class BadInputTest(unittest.TestCase):
                 self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
                 self.assertIn(f"{config}:3: web.listen:", r.stderr)
                 self.assertIn("reachable from other machines", r.stderr)
+        # The running daemon's web port: in use.
+        config.write_text(harness.daemon_config(self.robot.mock_port, d / "certs", d / "credentials.yaml",
+                                                web_listen=self.robot.web))
+        r = subprocess.run([ARGS.omniviewd, "--config", str(config), "--ready-file", str(d / "never")],
+                           capture_output=True, text=True, timeout=seconds(30))
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertIn(f"{config}:3: web.listen: cannot listen on '{self.robot.web}'", r.stderr)
         config.write_text(harness.daemon_config(self.robot.mock_port, d / "certs", d / "credentials.yaml",
                                                 web_listen="127.0.0.1:0", extra="  \nweb_typo: 1\n"))
         r = subprocess.run([ARGS.omniviewd, "--config", str(config), "--check"], capture_output=True, text=True,
