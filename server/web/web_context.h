@@ -21,6 +21,8 @@ struct WebContext {
   boost::asio::thread_pool& workers;    // runs calls that may block (a view's map rebuilt)
   // Logs a refused token or call, at most a few lines per peer host every 10 s.
   std::function<void(const std::string& peer, const std::string& why)> refused;
+  // Logs a connection that authenticated: peer, protocol and the token's label (never the token).
+  std::function<void(const std::string& peer, const std::string& protocol, const Caller& caller)> authenticated;
 };
 
 // gRPC's name of a status code ("NOT_FOUND"), which the web protocols use too.

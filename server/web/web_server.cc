@@ -63,10 +63,20 @@ WebServer::WebServer(const DaemonConfig& config, Pipeline& pipeline, const Authe
       auth_(auth),
       calls_(pipeline, limits_),
       context_{pipeline, auth, calls_, limits_, workers_,
-               [this](const std::string& peer, const std::string& why) { log_refusal(peer, why); }} {
+               [this](const std::string& peer, const std::string& why) { log_refusal(peer, why); },
+               [](const std::string& peer, const std::string& protocol, const Caller& caller) {
+                 std::cerr << "omniviewd: web: " << peer << " (" << protocol << ") authenticated with "
+                           << caller.label << " (" << to_string(caller.role) << ")" << std::endl;
+               }} {
   ws_limits_.max_message_bytes = static_cast<size_t>(config_.max_message_bytes);
   ws_limits_.max_pending_bytes = static_cast<size_t>(config_.max_pending_bytes);
   console_dir_ = find_console_dir(config_);
+  if (console_dir_.empty()) {
+    // The WebSocket protocols still work (Foxglove needs no files); say why pages are 404.
+    std::cerr << "omniviewd: web: no console files found beside the program or in the source tree; "
+                 "set web.console_dir to the console/ folder"
+              << std::endl;
+  }
   files_ = std::make_unique<StaticFiles>(std::vector<std::pair<std::string, std::string>>{
       {"/", console_dir_}, {"/javascript/", config_.javascript_dir}});
 
@@ -164,6 +174,7 @@ UpgradeDecision WebServer::upgrade(const Request& request, const std::string& pe
       return d;
     }
     caller = who;
+    if (auth_.enabled()) context_.authenticated(peer, up.answer.empty() ? kConsoleSubprotocol : up.answer, who);
   } else if (!auth_.enabled()) {
     caller = Caller{Role::kOperator, ""};
   }

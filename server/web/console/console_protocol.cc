@@ -133,6 +133,7 @@ void ConsoleProtocol::authenticate(const json::Struct& message, std::optional<in
     return;
   }
   caller_ = caller;
+  if (context_.auth.enabled()) context_.authenticated(peer_, kConsoleSubprotocol, caller);
   reply(id, "{\"role\":" + json::quote(to_string(caller.role)) + "}");
 }
 
