@@ -50,9 +50,11 @@ TEST(Outbox, BoundsUnreadRepliesAndDropsAllOnClose) {
   EXPECT_FALSE(box.push_text("x"));  // the client does not read: the session drops it
   bool called = false, written = true;
   box.push_latest(1, text("frame"), [&](bool w) { called = true; written = w; });
-  box.drop_all();
+  box.drop_channels();  // closing: frames go, replies stay
   EXPECT_TRUE(called);
   EXPECT_FALSE(written);
+  EXPECT_EQ(box.pop()->message.head, "12345");
+  box.drop_all();
   EXPECT_TRUE(box.empty());
 }
 

@@ -35,6 +35,10 @@ std::optional<Outbox::Next> Outbox::pop() {
 void Outbox::drop_all() {
   texts_.clear();
   text_bytes_ = 0;
+  drop_channels();
+}
+
+void Outbox::drop_channels() {
   auto waiting = std::move(latest_);
   latest_.clear();
   for (auto& [channel, next] : waiting) {

@@ -30,6 +30,8 @@ class Outbox {
   std::optional<Next> pop();
   // The client left: every waiting message's `done(false)`.
   void drop_all();
+  // Closing: channel messages are dropped (`done(false)`), replies still go out.
+  void drop_channels();
   bool empty() const { return texts_.empty() && latest_.empty(); }
 
  private:

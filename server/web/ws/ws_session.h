@@ -60,7 +60,7 @@ class WsSession : public Connection, public std::enable_shared_from_this<WsSessi
 
   void send_text(std::string text) override {
     net::post(ws_.get_executor(), [self = this->shared_from_this(), text = std::move(text)]() mutable {
-      if (self->finished_) return;
+      if (self->finished_ || self->close_sent_) return;
       if (!self->outbox_.push_text(std::move(text))) {
         self->begin_close(1008, "too many unread replies: this client does not read");
         return;
@@ -124,7 +124,7 @@ class WsSession : public Connection, public std::enable_shared_from_this<WsSessi
   }
 
   void write_next() {
-    if (writing_ || finished_) return;
+    if (writing_ || finished_ || close_sent_) return;
     auto next = outbox_.pop();
     if (!next) {
       if (closing_ && !close_sent_) send_close();
@@ -148,13 +148,14 @@ class WsSession : public Connection, public std::enable_shared_from_this<WsSessi
     write_next();
   }
 
-  // Sends what is queued, then the close frame.
+  // Sends the replies still queued, then the close frame.
   void begin_close(uint16_t code, const std::string& reason) {
     if (finished_ || closing_) return;
     closing_ = true;
     close_reason_ = beast::websocket::close_reason(static_cast<beast::websocket::close_code>(code), reason.substr(0, 123));
-    outbox_.drop_all();  // channel messages are not worth waiting for; replies already sent are
-    if (!writing_) send_close();
+    // Frames are not worth waiting for; replies are (the refusal that explains the close).
+    outbox_.drop_channels();
+    write_next();  // the replies left, then the close frame
   }
 
   void send_close() {
