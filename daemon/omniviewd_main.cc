@@ -130,6 +130,10 @@ int main(int argc, char** argv) {
       std::cerr << "omniviewd: RTSP (H.264): " << url
                 << (config.tokens.empty() ? "" : " (user omniview, a token as password)") << std::endl;
     }
+    if (!daemon.web_url().empty()) {
+      std::cerr << "omniviewd: console and Foxglove WebSocket on " << daemon.web_url()
+                << (config.tokens.empty() ? "" : " (tokens required)") << std::endl;
+    }
     // Not an error (nothing saved yet), but said: a path that resolves elsewhere than the
     // user thinks (it is relative to the config's folder) would otherwise lose views silently.
     if (std::error_code ec; !config.views_file.empty() && !std::filesystem::exists(config.views_file, ec)) {
@@ -138,7 +142,11 @@ int main(int argc, char** argv) {
     }
     if (!ready_file.empty()) {
       const std::string tmp = ready_file + ".tmp";
-      std::ofstream(tmp) << daemon.address() << "\n";
+      // The gRPC address first (what scripts read), then the web endpoint's when it serves.
+      std::ofstream out(tmp);
+      out << daemon.address() << "\n";
+      if (!daemon.web_address().empty()) out << "web " << daemon.web_address() << "\n";
+      out.close();
       std::rename(tmp.c_str(), ready_file.c_str());  // appears whole, never half-written
     }
     int sig = 0;

@@ -44,6 +44,8 @@ expected=(
   usr/lib/systemd/system/omniviewd.service
   usr/lib/sysusers.d/omniview.conf
   usr/share/doc/omniview/API.md
+  usr/share/omniview/console/index.html
+  usr/share/omniview/console/js/main.js
 )
 for f in "${expected[@]}"; do
   [ -e "$root/$f" ] || fail "the install tree lacks $f"
@@ -54,7 +56,7 @@ for f in usr/bin/omniviewd usr/bin/omniview; do
   [ -x "$root/$f" ] || fail "$f is not executable"
 done
 # Nothing outside the places a package may use.
-stray=$(cd "$root" && find . -type f | grep -v -E '^\./(usr/(bin|lib/systemd/system|lib/sysusers\.d|share/doc/omniview)|etc/omniview)/' || true)
+stray=$(cd "$root" && find . -type f | grep -v -E '^\./(usr/(bin|lib/systemd/system|lib/sysusers\.d|share/doc/omniview|share/omniview/console)|etc/omniview)/' || true)
 [ -z "$stray" ] || fail "files outside the expected folders: $stray"
 
 unit=$root/usr/lib/systemd/system/omniviewd.service

@@ -47,7 +47,7 @@ trap 'echo; exit 130' INT TERM
 # wait_ready NAME PID READY_FILE LOG: until the process has written its address.
 wait_ready() {
   for _ in $(seq 300); do
-    [ -s "$3" ] && { echo "$1 listening on $(cat "$3")"; return 0; }
+    [ -s "$3" ] && { echo "$1 listening on $(head -n 1 "$3")"; return 0; }
     if ! kill -0 "$2" 2> /dev/null; then
       echo "$1 did not start:" >&2
       cat "$4" >&2
@@ -116,7 +116,9 @@ if [ "$keep_serving" = 0 ]; then exit 0; fi
 cat << EOF
 
 omniviewd keeps serving on 127.0.0.1:50051 (and spot-mock on 50443) until you press
-Ctrl-C. In another terminal:
+Ctrl-C. Watch it in a browser: http://127.0.0.1:8765/?layout=split (the operator console;
+drag to steer the front view, tap the bird's-eye to look there), or connect Foxglove or
+Lichtblick to ws://127.0.0.1:8765. In another terminal:
   $omniview watch birdseye              # live frame rate, latency and skipped frames
   $omniview ptz ptz --dpan 10           # pan the virtual camera 10 degrees left
   $omniview views get front             # a view as YAML: edit it, then 'views update --file'

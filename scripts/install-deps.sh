@@ -16,6 +16,9 @@ packages=(
   ffmpeg           # ffprobe: the video tests read the CLI's H.264 pipe and RTSP as players do
   libgstrtspserver-1.0-dev libgstreamer-plugins-base1.0-dev  # RTSP (server/rtsp): the server library, appsrc
   gstreamer1.0-plugins-good gstreamer1.0-plugins-bad         # ... rtph264pay, h264parse
+  libboost-dev  # Boost.Beast and Asio (header-only): omniviewd's HTTP + WebSocket endpoint (server/web)
+  libjs-three   # three.js, served to the console's 3D cloud panel from /usr/share/javascript
+  python3-websockets python3-selenium python3-yaml chromium chromium-driver  # tests/web
   dpkg-dev systemd  # cpack -G DEB (dpkg-shlibdeps) and systemd-analyze verify: scripts/check-install.sh
 )
 

@@ -28,6 +28,7 @@ void apply_views_file(const YamlReader& config_reader, const YAML::Node& node, c
                       const std::vector<SourceEntry>& sources, const Limits& limits, std::vector<ViewSpec>& views);
 
 RtspConfig parse_rtsp(const YamlReader& reader, const YAML::Node& node, const Limits& limits);
+WebConfig parse_web(const YamlReader& reader, const YAML::Node& node, const std::string& folder);
 
 std::vector<RobotModelEntry> parse_robot_models(const YamlReader& reader, const YAML::Node& node,
                                                 const std::vector<SourceEntry>& sources, const std::string& folder);

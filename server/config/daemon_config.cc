@@ -48,16 +48,31 @@ void check_listen_exposure(const DaemonConfig& config, const HostResolver& resol
   r.fail(listen ? listen : r.root(), "listen", refusal);
 }
 
-void check_rtsp_exposure(const DaemonConfig& config, const HostResolver& resolve) {
-  if (!config.rtsp) return;
-  const EndpointGuards endpoint{config.rtsp->listen, config.tls.has_value(), !config.tokens.empty(),
-                                config.allow_insecure_remote};
+namespace {
+
+// The rule for a second listener (`block`.listen: rtsp, web): the same guards as the gRPC
+// address, refused at the block's listen key.
+void check_block_exposure(const DaemonConfig& config, const std::string& block, const std::string& listen,
+                          const HostResolver& resolve) {
+  const EndpointGuards endpoint{listen, config.tls.has_value(), !config.tokens.empty(), config.allow_insecure_remote};
   const std::string refusal = exposure_refusal(endpoint, resolve);
   if (refusal.empty()) return;
-  if (!config.reader) throw ConfigError(config.file + ": rtsp.listen: " + refusal);
+  const std::string key = block + ".listen";
+  if (!config.reader) throw ConfigError(config.file + ": " + key + ": " + refusal);
   const YamlReader& r = *config.reader;
-  const YAML::Node rtsp = r.root()["rtsp"];
-  r.fail(rtsp && rtsp["listen"] ? rtsp["listen"] : r.root(), "rtsp.listen", refusal);
+  const YAML::Node node = r.root()[block];
+  const YAML::Node at = node && node.IsMap() && node["listen"] ? node["listen"] : (node ? node : r.root());
+  r.fail(at, key, refusal);
+}
+
+}  // namespace
+
+void check_rtsp_exposure(const DaemonConfig& config, const HostResolver& resolve) {
+  if (config.rtsp) check_block_exposure(config, "rtsp", config.rtsp->listen, resolve);
+}
+
+void check_web_exposure(const DaemonConfig& config, const HostResolver& resolve) {
+  if (config.web.enabled) check_block_exposure(config, "web", config.web.listen, resolve);
 }
 
 DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& folder, const ListenOptions& options) {
@@ -67,7 +82,7 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   const YAML::Node root = r.root();
   if (!root.IsMap()) r.fail(root, "", "expected a map with listen, sources, views, ...");
   r.expect_keys(root, "", {"listen", "tls", "tokens", "allow_insecure_remote", "limits", "sources", "views",
-                          "robot_models", "views_file", "rtsp"});
+                          "robot_models", "views_file", "rtsp", "web"});
 
   DaemonConfig config;
   config.file = r.file();
@@ -90,11 +105,13 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
     apply_views_file(r, views_file, config.views_file, config.sources, config.limits, config.views);
   }
   config.robot_models = parse_robot_models(r, root["robot_models"], config.sources, folder);
+  config.web = parse_web(r, root["web"], folder);
   apply_listen_override(config, options.env, kListenEnv);
   apply_listen_override(config, options.flag, "--listen");
   if (const YAML::Node rtsp = root["rtsp"]; rtsp && !rtsp.IsNull()) config.rtsp = parse_rtsp(r, rtsp, config.limits);
   check_listen_exposure(config, options.resolve);
   check_rtsp_exposure(config, options.resolve);
+  check_web_exposure(config, options.resolve);
   return config;
 }
 

@@ -61,6 +61,21 @@ struct Limits {
   int record_queue_mb = 256;                // and the MiB of images those may hold
 };
 
+// `web:` — the HTTP + WebSocket endpoint (server/web): the operator console and the
+// Foxglove WebSocket protocol, with the gRPC API's TLS certificate and tokens.
+struct WebConfig {
+  bool enabled = false;
+  std::string listen = "127.0.0.1:8765";  // host:port (8765: what Foxglove clients try first)
+  std::string console_dir;                // empty: the installed console, else the source tree's
+  std::string javascript_dir = "/usr/share/javascript";  // Debian's JS libraries (libjs-three)
+  // WebSocket and HTTP connections at once (a browser keeps ~6 HTTP connections per page
+  // open a while, so room for a few pages each).
+  int max_connections = 64;
+  int max_message_bytes = 64 << 10;       // largest message a client may send
+  int max_pending_bytes = 16 << 20;       // unsent replies to one client before it is dropped
+  YAML::Node listen_node;                 // for errors found at start (address in use)
+};
+
 struct SourceEntry {
   std::string name;
   std::string type;
@@ -106,6 +121,7 @@ struct DaemonConfig {
   // over `views` at start (same name: the file's wins). A file not there yet is no error.
   std::string views_file;
   std::optional<RtspConfig> rtsp;
+  WebConfig web;
 };
 
 // Where the listen address may come from besides the file, strongest first: the --listen
@@ -126,6 +142,10 @@ struct ListenOptions {
 // "OMNIVIEW_LISTEN: message" when the override is at fault.
 DaemonConfig load_daemon_config(const std::string& path, const ListenOptions& listen = {});
 DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& folder, const ListenOptions& listen = {});
+
+// The exposure rule on the web endpoint's address (`web.listen`), when it is enabled:
+// the same rule, the same TLS and tokens as the gRPC API. Throws ConfigError.
+void check_web_exposure(const DaemonConfig& config, const HostResolver& resolve = {});
 
 // The exposure rule on the config's effective listen address, blaming the file's `listen`
 // line or the override it came from. Throws ConfigError. Config loading and the daemon's

@@ -11,6 +11,7 @@
 #include "server/exposure/exposure_rule.h"
 #include "server/exposure/host_port.h"
 #include "server/source/source_registry.h"
+#include "server/web/web_server.h"
 
 namespace omniview {
 
@@ -57,6 +58,7 @@ Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
   // whoever built the config.
   check_listen_exposure(config_);
   check_rtsp_exposure(config_);
+  check_web_exposure(config_);
   PipelineLimits limits;
   limits.max_view_pixels = config_.limits.max_view_pixels;
   limits.max_views = config_.limits.max_views;
@@ -138,6 +140,14 @@ Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
   // Health by service name too (grpc_health_probe -service=omniview.v1.Omniview).
   server_->GetHealthCheckService()->SetServingStatus(v1::Omniview::service_full_name(), true);
   address_ = with_port(config_.listen, port);
+  if (config_.web.enabled) {
+    try {
+      web_ = std::make_unique<web::WebServer>(config_, *pipeline_, *auth_);
+    } catch (...) {
+      server_->Shutdown();
+      throw;
+    }
+  }
   pipeline_->start();
   if (config_.rtsp) {
     try {
@@ -154,11 +164,15 @@ std::vector<std::string> Daemon::rtsp_urls() const { return rtsp_ ? rtsp_->urls(
 
 Daemon::~Daemon() { shutdown(); }
 
+std::string Daemon::web_url() const { return web_ ? web_->url() : ""; }
+std::string Daemon::web_address() const { return web_ ? web_->address() : ""; }
+
 void Daemon::shutdown(std::chrono::milliseconds grace) {
   if (shut_down_) return;
   shut_down_ = true;
   if (server_) server_->GetHealthCheckService()->Shutdown();  // health: NOT_SERVING from now on
   if (rtsp_) rtsp_->stop();  // its clients' feeds leave the pipeline first
+  if (web_) web_->stop();  // browsers told "shutting down" (close 1001) before their streams end
   // Streams end first (their handlers return UNAVAILABLE), so Shutdown has little to wait for.
   pipeline_->stop("omniviewd is shutting down");
   if (server_) {

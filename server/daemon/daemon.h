@@ -15,6 +15,10 @@
 
 namespace omniview {
 
+namespace web {
+class WebServer;
+}
+
 class Daemon {
  public:
   // Creates the sources, the configured views and the TLS credentials, and starts
@@ -27,6 +31,10 @@ class Daemon {
 
   // The address actually listened on (a config port of 0 picks a free one: tests).
   const std::string& address() const { return address_; }
+  // The web endpoint's console URL ("http://127.0.0.1:8765/"); empty when `web` is off.
+  std::string web_url() const;
+  // Its host:port; empty when off.
+  std::string web_address() const;
   Pipeline& pipeline() { return *pipeline_; }
   // With an `rtsp:` block: each view's rtsp:// URL now (empty without).
   std::vector<std::string> rtsp_urls() const;
@@ -42,6 +50,7 @@ class Daemon {
   std::unique_ptr<OmniviewService> service_;
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<RtspServer> rtsp_;
+  std::unique_ptr<web::WebServer> web_;  // after the pipeline and auth: destroyed before them
   std::string address_;
   bool shut_down_ = false;
 };

@@ -84,6 +84,8 @@ class Pipeline {
   std::shared_ptr<CloudSubscriber> subscribe_cloud(const std::string& source, const std::string& peer,
                                                    CloudRequest request, double max_rate_hz);
   void unsubscribe_cloud(const std::string& source, const CloudSubscriber* subscriber);
+  // Whether `source` ("" = default) delivers lidar clouds (NOT_FOUND for an unknown source).
+  bool provides_clouds(const std::string& source) const;
   // The rig a source currently delivers (for recordings).
   std::shared_ptr<const Rig> rig(const std::string& source) const;
 

@@ -6,6 +6,8 @@ namespace omniview {
 
 CloudDelivery& Pipeline::clouds(const std::string& source) const { return *clouds_.at(source); }
 
+bool Pipeline::provides_clouds(const std::string& source) const { return channel(source).source().provides_clouds(); }
+
 std::shared_ptr<CloudSubscriber> Pipeline::subscribe_cloud(const std::string& source, const std::string& peer,
                                                            CloudRequest request, double max_rate_hz) {
   if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");

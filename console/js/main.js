@@ -1,0 +1,243 @@
+// The operator console: connects, lists the views, lays out panes, steers, shows status.
+import { ApiError, Link } from './link.js';
+import { Pane } from './pane.js';
+import { Steering } from './steering.js';
+import { attachGestures } from './gestures.js';
+import { Gamepads } from './gamepad.js';
+import { lookAt } from './look.js';
+
+const RATE_HZ = 15;
+const ZOOMABLE = new Set(['PERSPECTIVE', 'BIRDSEYE', 'FISHEYE']);
+
+const $ = (id) => document.getElementById(id);
+
+const app = {
+  link: null,
+  views: [],                 // View messages (ListViews)
+  initial: new Map(),        // view name -> spec as first seen (double tap goes back to it)
+  steering: new Map(),       // view name -> Steering
+  panes: [],
+  layout: 'single',
+  cloud: null,
+  status: null,
+};
+window.omniviewConsole = app;  // for people (the devtools) and the browser tests
+
+function toast(text) {
+  const t = $('toast');
+  t.textContent = text;
+  t.hidden = false;
+  clearTimeout(toast.timer);
+  toast.timer = setTimeout(() => { t.hidden = true; }, 4000);
+}
+
+function spec(name) {
+  const v = app.views.find((x) => x.spec.name === name);
+  return v ? v.spec : null;
+}
+
+function steeringFor(view) {
+  if (!app.steering.has(view)) {
+    app.steering.set(view, new Steering(app.link, view, (e) => toast(`${view}: ${e.code}: ${e.message}`)));
+  }
+  return app.steering.get(view);
+}
+
+// The view that tap-to-look and the gamepad turn: a view named "ptz", else the first
+// perspective view on screen, else the first perspective view.
+function lookTarget() {
+  if (spec('ptz')) return 'ptz';
+  const shown = app.panes.map((p) => p.view).find((n) => spec(n) && spec(n).type === 'PERSPECTIVE');
+  if (shown) return shown;
+  const any = app.views.find((v) => v.spec.type === 'PERSPECTIVE');
+  return any ? any.spec.name : null;
+}
+
+// The view of that name if there is one, else the first of that type, else the first.
+function pickView(type, name) {
+  if (spec(name)) return name;
+  return (app.views.find((v) => v.spec.type === type) || app.views[0] || { spec: {} }).spec.name;
+}
+
+function addPane(view, hint) {
+  const s = spec(view);
+  const birdseye = s && s.type === 'BIRDSEYE';
+  const pane = new Pane($('panes'), app.link, view,
+    { hint: hint || (birdseye ? 'tap: look there' : 'drag: pan/tilt · pinch/wheel: zoom · double tap: centre') });
+  attachGestures(pane.el, {
+    drag: (dx, dy) => {
+      if (birdseye) return;
+      const k = pane.degreesPerPixel();
+      steeringFor(view).add(dx * k, -dy * k);  // the picture follows the finger
+    },
+    zoom: (factor) => { if (s && ZOOMABLE.has(s.type)) steeringFor(view).add(0, 0, factor); },
+    recentre: () => {
+      const target = birdseye ? lookTarget() : view;
+      const first = target && app.initial.get(target);
+      if (first) steeringFor(target).set({ yawDeg: first.yawDeg, pitchDeg: first.pitchDeg, hfovDeg: first.hfovDeg });
+    },
+    tap: (x, y) => {
+      if (!birdseye) return;
+      const target = lookTarget();
+      const pixel = pane.toImage(x, y);
+      if (!target || !pixel) return;
+      lookAt(app.link, view, pixel, target).then(
+        (set) => steeringFor(target).set(set),
+        (e) => toast(e.message));
+    },
+  });
+  app.panes.push(pane);
+  pane.start(RATE_HZ).catch((e) => { pane.showStale(e.message); toast(`${view}: ${e.message}`); });
+  return pane;
+}
+
+async function setLayout(layout, view) {
+  for (const p of app.panes) p.stop();
+  app.panes = [];
+  if (app.cloud) { app.cloud.stop(); app.cloud = null; }
+  app.layout = layout;
+  $('panes').className = layout;
+  for (const b of document.querySelectorAll('#layouts button')) b.classList.toggle('active', b.dataset.layout === layout);
+  if (layout === 'split') {
+    addPane(pickView('BIRDSEYE', 'birdseye'));
+    addPane(pickView('PERSPECTIVE', 'front'));
+  } else if (layout === 'paper') {
+    const { startPaper } = await import('./paper.js');
+    app.cloud = await startPaper(app, addPane, toast, pickView('PERSPECTIVE', 'front'));
+  } else {
+    addPane(view || $('view-select').value || pickView('PERSPECTIVE', 'front'));
+  }
+  const url = new URL(location.href);
+  url.searchParams.set('layout', layout);
+  if (layout === 'single') url.searchParams.set('view', app.panes[0] ? app.panes[0].view : '');
+  else url.searchParams.delete('view');
+  history.replaceState(null, '', url.pathname + url.search);
+}
+
+async function loadViews() {
+  const r = await app.link.call('ListViews', {});
+  app.views = r.views || [];
+  for (const v of app.views) if (!app.initial.has(v.spec.name)) app.initial.set(v.spec.name, v.spec);
+  const select = $('view-select');
+  const chosen = select.value;
+  select.replaceChildren(...app.views.map((v) => new Option(`${v.spec.name} (${v.spec.type.toLowerCase()})`, v.spec.name)));
+  if (chosen && spec(chosen)) select.value = chosen;
+}
+
+function showStatus(st) {
+  app.status = st;
+  const el = $('status');
+  const src = (st.sources || [])[0];
+  const parts = [];
+  // Text nodes only: view and source names come from the daemon (any operator can name a view).
+  if (src) {
+    el.dataset.connected = String(!!src.connected);
+    el.dataset.sourceRate = String(src.rateHz || 0);
+    const dot = document.createElement('span');
+    dot.className = 'dot' + (src.connected ? ' on' : '');
+    parts.push(dot, `${src.name} ${(src.rateHz || 0).toFixed(1)} Hz`);
+  }
+  for (const p of app.panes) {
+    const age = p.ageMs();
+    if (parts.length) parts.push('\u2003|\u2003');
+    parts.push(`${p.view} ${p.fps().toFixed(1)} fps · ${age === null ? '–' : Math.round(age) + ' ms'} · dropped ${p.skipped}`);
+  }
+  el.replaceChildren(...parts);
+  const down = (st.sources || []).filter((s) => !s.connected);
+  const stale = app.panes.find((p) => p.header && p.header.stale);
+  const banner = $('banner');
+  if (down.length) {
+    banner.textContent = `Robot disconnected: ${down.map((s) => `${s.name}: ${s.message || 'not connected'}`).join('; ')}`;
+  } else if (stale) {
+    banner.textContent = `Not live: ${stale.header.staleReason || 'no new images'}`;
+  }
+  banner.hidden = !(down.length || stale);
+}
+
+async function pollStatus() {
+  try {
+    showStatus(await app.link.call('GetStatus', {}));
+  } catch (e) {
+    if (e.code !== 'UNAVAILABLE') toast(e.message);
+  }
+}
+
+function snapshot() {
+  const pane = app.panes.find((p) => p.bytes);
+  if (!pane) return toast('no frame yet');
+  const type = pane.header.encoding === 'PNG' ? 'png' : 'jpg';
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(new Blob([pane.bytes], { type: type === 'png' ? 'image/png' : 'image/jpeg' }));
+  a.download = `${pane.view}-${pane.header.sequence}.${type}`;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+// The token: from the address's fragment (#token=..., never sent to the server, removed
+// from the address bar at once), else this tab's earlier one, else the login form.
+function takeToken() {
+  // Not URLSearchParams: it reads '+' as a space, and base64 tokens hold '+'.
+  const match = location.hash.match(/(?:^#|&)token=([^&]*)/);
+  if (match) {
+    sessionStorage.setItem('omniview-token', decodeURIComponent(match[1]));
+    history.replaceState(null, '', location.pathname + location.search);
+  }
+  return sessionStorage.getItem('omniview-token');
+}
+
+async function connect() {
+  const url = (location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws';
+  app.link = new Link(url);
+  app.link.addEventListener('close', (e) => {
+    $('status').textContent = `disconnected: ${e.detail.reason || 'code ' + e.detail.code}`;
+    $('status').dataset.connected = 'false';
+  });
+  app.link.addEventListener('error', (e) => toast(`${e.detail.code}: ${e.detail.message}`));
+  try {
+    await app.link.open(takeToken());
+  } catch (e) {
+    if (e instanceof ApiError && (e.code === 'UNAUTHENTICATED' || e.code === 'UNAVAILABLE')) {
+      sessionStorage.removeItem('omniview-token');
+      $('login').hidden = false;
+      $('login-error').textContent = e.code === 'UNAUTHENTICATED' && !takeToken() ? '' : e.message;
+      $('status').textContent = 'not connected: ' + e.message;
+      return false;
+    }
+    throw e;
+  }
+  $('login').hidden = true;
+  $('role').textContent = app.link.role === 'viewer' ? 'viewer: watching only' : app.link.role;
+  return true;
+}
+
+async function main() {
+  $('login').addEventListener('submit', (e) => {
+    e.preventDefault();
+    sessionStorage.setItem('omniview-token', $('token').value.trim());
+    location.reload();
+  });
+  if (!(await connect())) return;
+  await loadViews();
+  const params = new URLSearchParams(location.search);
+  const view = params.get('view');
+  if (view && spec(view)) $('view-select').value = view;
+  $('view-select').addEventListener('change', () => setLayout('single', $('view-select').value));
+  for (const b of document.querySelectorAll('#layouts button')) b.addEventListener('click', () => setLayout(b.dataset.layout));
+  $('snapshot').addEventListener('click', snapshot);
+  await setLayout(params.get('layout') || 'single', view && spec(view) ? view : undefined);
+  pollStatus();
+  setInterval(pollStatus, 1000);
+  new Gamepads((yaw, pitch, zoom) => {
+    const target = app.panes.map((p) => p.view).find((n) => spec(n) && spec(n).type !== 'BIRDSEYE') || lookTarget();
+    if (target) steeringFor(target).add(yaw, pitch, ZOOMABLE.has((spec(target) || {}).type) ? zoom : 1);
+  }, () => {
+    const target = lookTarget();
+    const first = target && app.initial.get(target);
+    if (first) steeringFor(target).set({ yawDeg: first.yawDeg, pitchDeg: first.pitchDeg, hfovDeg: first.hfovDeg });
+  }).start();
+}
+
+main().catch((e) => {
+  console.error(e);
+  $('status').textContent = 'error: ' + e.message;
+});

@@ -1,0 +1,59 @@
+// `web:` — the HTTP + WebSocket endpoint (server/web). It has no TLS or tokens of its own:
+// the gRPC API's `tls` and `tokens` apply, so a browser and a gRPC client are held to the
+// same rules (docs/SECURITY.md).
+#include <filesystem>
+#include <string>
+
+#include "server/config/config_parts.h"
+#include "server/exposure/host_port.h"
+
+namespace omniview::config_parts {
+namespace {
+
+int int_in(const YamlReader& r, const YAML::Node& n, const std::string& path, int lo, int hi) {
+  const int v = r.integer(n, path);
+  if (v < lo || v > hi) {
+    r.fail(n, path, "must be from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " + std::to_string(v));
+  }
+  return v;
+}
+
+}  // namespace
+
+WebConfig parse_web(const YamlReader& r, const YAML::Node& n, const std::string& folder) {
+  WebConfig web;
+  if (!n.IsDefined() || n.IsNull()) return web;
+  if (!n.IsMap()) r.fail(n, "web", "expected a map {enabled, listen, ...}");
+  r.expect_keys(n, "web", {"enabled", "listen", "console_dir", "javascript_dir", "max_connections",
+                           "max_message_bytes", "max_pending_bytes"});
+  // A `web:` block means "serve it" unless it says otherwise.
+  web.enabled = n["enabled"] ? r.boolean(n["enabled"], "web.enabled") : true;
+  if (const YAML::Node listen = n["listen"]) {
+    web.listen = r.text(listen, "web.listen");
+    web.listen_node = listen;
+    if (is_unix_address(web.listen)) {
+      r.fail(listen, "web.listen", "the web endpoint listens on TCP only (host:port, e.g. 127.0.0.1:8765)");
+    }
+    if (const auto problem = listen_address_problem(web.listen); !problem.empty()) r.fail(listen, "web.listen", problem);
+  }
+  for (const char* key : {"console_dir", "javascript_dir"}) {
+    const YAML::Node dir = n[key];
+    if (!dir) continue;
+    const std::string path = std::string("web.") + key;
+    const std::string value = resolve_config_path(folder, r.text(dir, path));
+    std::error_code ec;
+    if (!std::filesystem::is_directory(value, ec)) r.fail(dir, path, "'" + value + "' is not a folder");
+    (key == std::string("console_dir") ? web.console_dir : web.javascript_dir) = value;
+  }
+  if (n["max_connections"]) web.max_connections = int_in(r, n["max_connections"], "web.max_connections", 1, 10000);
+  if (n["max_message_bytes"]) {
+    // A request or a view update always fits in 1 KiB; 16 MiB is far beyond any control message.
+    web.max_message_bytes = int_in(r, n["max_message_bytes"], "web.max_message_bytes", 1024, 16 << 20);
+  }
+  if (n["max_pending_bytes"]) {
+    web.max_pending_bytes = int_in(r, n["max_pending_bytes"], "web.max_pending_bytes", 64 << 10, 1 << 30);
+  }
+  return web;
+}
+
+}  // namespace omniview::config_parts

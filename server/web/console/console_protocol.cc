@@ -1,0 +1,296 @@
+#include "server/web/console/console_protocol.h"
+
+#include <sstream>
+
+#include <boost/asio/post.hpp>
+
+#include "server/api/request_bounds.h"
+#include "server/pipeline/cloud/cloud_request.h"
+#include "server/pipeline/frame_encoder.h"
+#include "server/web/stream/frame_message.h"
+
+namespace omniview::web {
+
+namespace {
+
+constexpr int kMaxCallsInFlight = 4;  // per client: a joystick waits for its reply before the next step
+constexpr auto kAuthTimeout = std::chrono::seconds(10);  // a connection that never authenticates is closed
+
+// What a subscription that ended on its own (its view deleted, the daemon stopping) tells
+// the client; nothing when the client unsubscribed.
+std::function<void()> ended_notice(std::weak_ptr<Connection> connection, uint32_t channel,
+                                   std::shared_ptr<std::atomic<bool>> stopping,
+                                   std::function<std::pair<grpc::StatusCode, std::string>()> why) {
+  return [connection = std::move(connection), channel, stopping = std::move(stopping), why = std::move(why)] {
+    if (*stopping) return;
+    const auto [code, reason] = why();
+    if (const auto c = connection.lock()) {
+      c->send_text("{\"op\":\"ended\",\"channel\":" + std::to_string(channel) + ",\"error\":{\"code\":" +
+                   json::quote(code_name(code)) + ",\"message\":" + json::quote(reason) + "}}");
+    }
+  };
+}
+
+const char* const kOps = "auth, call, subscribe, subscribe_cloud, unsubscribe";
+
+std::string number_text(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
+}  // namespace
+
+ConsoleProtocol::ConsoleProtocol(std::weak_ptr<Connection> connection, const WebContext& context,
+                                 std::optional<Caller> caller)
+    : connection_(std::move(connection)), context_(context), caller_(std::move(caller)) {
+  if (const auto c = connection_.lock()) peer_ = c->peer();
+}
+
+ConsoleProtocol::~ConsoleProtocol() { on_close(); }
+
+void ConsoleProtocol::send(std::string text) {
+  if (const auto c = connection_.lock()) c->send_text(std::move(text));
+}
+
+void ConsoleProtocol::reply(std::optional<int64_t> id, const std::string& response_json) {
+  send("{\"op\":\"reply\",\"id\":" + (id ? std::to_string(*id) : "null") + ",\"response\":" + response_json + "}");
+}
+
+void ConsoleProtocol::fail(std::optional<int64_t> id, grpc::StatusCode code, const std::string& message) {
+  const std::string error = "{\"code\":" + json::quote(code_name(code)) + ",\"message\":" + json::quote(message) + "}";
+  if (id) {
+    send("{\"op\":\"reply\",\"id\":" + std::to_string(*id) + ",\"error\":" + error + "}");
+  } else {
+    send("{\"op\":\"error\",\"error\":" + error + "}");
+  }
+}
+
+void ConsoleProtocol::on_open() {
+  const bool need = context_.auth.enabled() && !caller_;
+  std::string hello = "{\"op\":\"hello\",\"protocol\":" + json::quote(kConsoleSubprotocol) +
+                      ",\"server\":\"omniviewd\",\"version\":" + json::quote(OMNIVIEW_VERSION) +
+                      ",\"auth\":" + json::quote(need ? "required" : "done");
+  if (caller_) hello += ",\"role\":" + json::quote(to_string(caller_->role));
+  send(hello + "}");
+  if (need) {
+    if (const auto c = connection_.lock()) {
+      c->after(kAuthTimeout, [this] {
+        if (caller_) return;
+        if (const auto conn = connection_.lock()) conn->close(1008, "no auth message within 10 s");
+      });
+    }
+  }
+}
+
+void ConsoleProtocol::on_message(std::string_view data, bool binary) {
+  if (binary) {
+    return fail(std::nullopt, grpc::StatusCode::INVALID_ARGUMENT,
+                "binary messages are not part of omniview.console.v1: send JSON text");
+  }
+  std::string error;
+  const auto message = json::parse_object(data, &error);
+  if (!message) return fail(std::nullopt, grpc::StatusCode::INVALID_ARGUMENT, error);
+  std::optional<int64_t> id;
+  try {
+    id = json::integer_field(*message, "id", 0, int64_t{1} << 52);
+    handle(*message, id);
+  } catch (const std::invalid_argument& e) {
+    fail(id, grpc::StatusCode::INVALID_ARGUMENT, e.what());
+  } catch (const ApiError& e) {
+    fail(id, e.code, e.what());
+  } catch (const std::exception& e) {
+    fail(id, grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
+  }
+}
+
+void ConsoleProtocol::handle(const json::Struct& message, std::optional<int64_t> id) {
+  const auto op = json::string_field(message, "op");
+  if (!op) throw std::invalid_argument(std::string("no 'op' (one of: ") + kOps + ")");
+  if (*op == "auth") return authenticate(message, id);
+  if (!caller_) {
+    if (context_.auth.enabled()) {
+      return fail(id, grpc::StatusCode::UNAUTHENTICATED, "send {\"op\": \"auth\", \"token\": ...} first");
+    }
+    caller_ = Caller{Role::kOperator, ""};
+  }
+  if (*op == "call") return call(message, id);
+  if (*op == "subscribe") return subscribe(message, id);
+  if (*op == "subscribe_cloud") return subscribe_cloud(message, id);
+  if (*op == "unsubscribe") return unsubscribe(message, id);
+  throw std::invalid_argument("unknown op '" + *op + "' (one of: " + kOps + ")");
+}
+
+void ConsoleProtocol::authenticate(const json::Struct& message, std::optional<int64_t> id) {
+  const auto token = json::string_field(message, "token").value_or("");
+  Caller caller;
+  const grpc::Status s = context_.auth.check_header("Bearer " + token, Role::kViewer, &caller);
+  if (!s.ok()) {
+    context_.refused(peer_, s.error_message());
+    fail(id, s.error_code(), s.error_message());
+    // A wrong token ends the connection: guessing costs a new connection each time.
+    if (const auto c = connection_.lock()) c->close(1008, s.error_message());
+    return;
+  }
+  caller_ = caller;
+  if (context_.auth.enabled()) context_.authenticated(peer_, kConsoleSubprotocol, caller);
+  reply(id, "{\"role\":" + json::quote(to_string(caller.role)) + "}");
+}
+
+void ConsoleProtocol::call(const json::Struct& message, std::optional<int64_t> id) {
+  const auto method = json::string_field(message, "method");
+  if (!method) throw std::invalid_argument("'call' needs a 'method' (e.g. \"UpdateView\")");
+  const auto role = context_.calls.role_of(*method);
+  if (!role) {
+    std::string list;
+    for (const auto& m : context_.calls.methods()) list += (list.empty() ? "" : ", ") + m;
+    return fail(id, grpc::StatusCode::UNIMPLEMENTED, "no method '" + *method + "' here (methods: " + list + ")");
+  }
+  if (!role_allows(caller_->role, *role)) {
+    const std::string why = *method + " needs the " + to_string(*role) + " role; this connection's token is a " +
+                            to_string(caller_->role) + " token";
+    context_.refused(peer_, why);
+    return fail(id, grpc::StatusCode::PERMISSION_DENIED, why);
+  }
+  if (*calls_in_flight_ >= kMaxCallsInFlight) {
+    return fail(id, grpc::StatusCode::RESOURCE_EXHAUSTED,
+                "more than " + std::to_string(kMaxCallsInFlight) + " calls in flight: wait for their replies");
+  }
+  const json::Value* request = json::find(message, "request");
+  if (request && !request->has_struct_value() && !request->has_null_value()) {
+    throw std::invalid_argument("'request' must be an object (the API's request message as JSON)");
+  }
+  const std::string text = request && request->has_struct_value() ? json::to_text(*request) : "";
+  ++*calls_in_flight_;
+  // Off the I/O thread: UpdateView returns only once the view's new map is built.
+  boost::asio::post(context_.workers, [connection = connection_, calls = &context_.calls, in_flight = calls_in_flight_,
+                                       method = *method, text, id] {
+    const auto result = calls->call(method, text);
+    --*in_flight;
+    const auto c = connection.lock();
+    if (!c) return;
+    const std::string head = "{\"op\":\"reply\",\"id\":" + (id ? std::to_string(*id) : "null");
+    if (result.status.ok()) {
+      c->send_text(head + ",\"response\":" + result.response + "}");
+    } else {
+      c->send_text(head + ",\"error\":{\"code\":" + json::quote(code_name(result.status.error_code())) +
+                   ",\"message\":" + json::quote(result.status.error_message()) + "}}");
+    }
+  });
+}
+
+bool ConsoleProtocol::check_stream_limit(std::optional<int64_t> id) {
+  if (static_cast<int>(channels_.size()) < context_.limits.max_streams_per_client) return true;
+  fail(id, grpc::StatusCode::RESOURCE_EXHAUSTED,
+       "at most " + std::to_string(context_.limits.max_streams_per_client) +
+           " streams per connection (limits.max_streams_per_client): unsubscribe one first");
+  return false;
+}
+
+void ConsoleProtocol::subscribe(const json::Struct& message, std::optional<int64_t> id) {
+  const auto view = json::string_field(message, "view");
+  if (!view || view->empty()) throw std::invalid_argument("'subscribe' needs a 'view'");
+  if (!check_stream_limit(id)) return;
+  v1::Encoding encoding = v1::JPEG;
+  if (const auto name = json::string_field(message, "encoding")) {
+    if (!v1::Encoding_Parse(*name, &encoding)) throw std::invalid_argument("'encoding' must be JPEG, PNG or RAW");
+  }
+  const int quality = static_cast<int>(json::integer_field(message, "quality", 0, 100).value_or(0));
+  const bool gray = json::bool_field(message, "gray").value_or(false);
+  const EncodingKey key = encoding_key(encoding, quality, gray);
+  const double asked = json::number_field(message, "max_rate_hz").value_or(0);
+  if (asked < 0) throw std::invalid_argument("'max_rate_hz' must be >= 0 (0: as fast as frames come)");
+  const double rate = asked == 0 ? context_.limits.max_rate_hz : std::min(asked, context_.limits.max_rate_hz);
+  const bool stale = json::bool_field(message, "stale_frames").value_or(true);
+
+  const auto subscriber = context_.pipeline.subscribe(*view, peer_ + " (web)", key, rate, stale);  // NOT_FOUND: ApiError
+  const uint32_t channel = next_channel_++;
+  Channel ch;
+  ch.release = [&pipeline = context_.pipeline, view = *view, sub = subscriber] { pipeline.unsubscribe(view, sub.get()); };
+  ch.stopping = std::make_shared<std::atomic<bool>>(false);
+  Pump::Source source;
+  source.take = [sub = subscriber, channel](std::chrono::milliseconds timeout) {
+    Pump::Item item;
+    const auto frame = sub->take(timeout);
+    if (!frame) return item;
+    item.kind = *frame ? Pump::Item::kMessage : Pump::Item::kEnd;
+    if (*frame) item.message = frame_message(channel, *frame);
+    return item;
+  };
+  source.sent = [sub = subscriber] { sub->count_sent(); };
+  source.ended = ended_notice(connection_, channel, ch.stopping, [sub = subscriber] {
+    return std::make_pair(sub->close_code(), sub->close_reason());
+  });
+  source.interrupt = [sub = subscriber] { sub->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
+  ch.pump = std::make_unique<Pump>(connection_, channel, std::move(source));
+  channels_.emplace(channel, std::move(ch));
+  reply(id, "{\"channel\":" + std::to_string(channel) + ",\"view\":" + json::quote(*view) +
+                ",\"maxRateHz\":" + number_text(rate) + ",\"encoding\":" + json::quote(to_string(key)) + "}");
+}
+
+void ConsoleProtocol::subscribe_cloud(const json::Struct& message, std::optional<int64_t> id) {
+  // The request is StreamClouds' own message, checked as the gRPC call checks it.
+  v1::StreamCloudsRequest request;
+  if (const json::Value* r = json::find(message, "request")) {
+    if (!r->has_struct_value()) throw std::invalid_argument("'request' must be an object (a StreamCloudsRequest)");
+    if (const auto error = json::text_to_message(json::to_text(*r), request); !error.empty()) {
+      throw std::invalid_argument("request is not a StreamCloudsRequest: " + error);
+    }
+  }
+  if (const grpc::Status s = check_request_bounds(request); !s.ok()) return fail(id, s.error_code(), s.error_message());
+  if (!check_stream_limit(id)) return;
+  const double rate = request.max_rate_hz() == 0 ? context_.limits.max_rate_hz
+                                                 : std::min(request.max_rate_hz(), context_.limits.max_rate_hz);
+  const auto subscriber = context_.pipeline.subscribe_cloud(request.source(), peer_ + " (web)",
+                                                            cloud_request_from_proto(request.options()), rate);
+  const uint32_t channel = next_channel_++;
+  Channel ch;
+  ch.release = [&pipeline = context_.pipeline, source = request.source(), sub = subscriber] {
+    pipeline.unsubscribe_cloud(source, sub.get());
+  };
+  ch.stopping = std::make_shared<std::atomic<bool>>(false);
+  Pump::Source source;
+  source.take = [sub = subscriber, channel](std::chrono::milliseconds timeout) {
+    Pump::Item item;
+    const auto cloud = sub->take(timeout);
+    if (!cloud) return item;
+    item.kind = *cloud ? Pump::Item::kMessage : Pump::Item::kEnd;
+    if (*cloud) item.message = cloud_message(channel, *cloud);
+    return item;
+  };
+  source.sent = [sub = subscriber] { sub->count_sent(); };
+  source.ended = ended_notice(connection_, channel, ch.stopping, [sub = subscriber] {
+    return std::make_pair(sub->close_code(), sub->close_reason());
+  });
+  source.interrupt = [sub = subscriber] { sub->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
+  ch.pump = std::make_unique<Pump>(connection_, channel, std::move(source));
+  channels_.emplace(channel, std::move(ch));
+  reply(id, "{\"channel\":" + std::to_string(channel) + ",\"maxRateHz\":" + number_text(rate) + "}");
+}
+
+void ConsoleProtocol::unsubscribe(const json::Struct& message, std::optional<int64_t> id) {
+  const auto channel = json::integer_field(message, "channel", 0, UINT32_MAX);
+  if (!channel) throw std::invalid_argument("'unsubscribe' needs a 'channel'");
+  if (!channels_.count(static_cast<uint32_t>(*channel))) {
+    return fail(id, grpc::StatusCode::NOT_FOUND, "no channel " + std::to_string(*channel) + " on this connection");
+  }
+  stop(static_cast<uint32_t>(*channel));
+  reply(id, "{}");
+}
+
+void ConsoleProtocol::stop(uint32_t channel) {
+  const auto it = channels_.find(channel);
+  if (it == channels_.end()) return;
+  *it->second.stopping = true;
+  it->second.pump->stop();
+  it->second.release();
+  channels_.erase(it);
+}
+
+void ConsoleProtocol::on_close() {
+  if (closed_) return;
+  closed_ = true;
+  while (!channels_.empty()) stop(channels_.begin()->first);
+}
+
+}  // namespace omniview::web

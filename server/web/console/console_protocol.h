@@ -1,0 +1,62 @@
+// The operator console's protocol ("omniview.console.v1", docs/API.md "Web endpoint"):
+// JSON text messages for authentication, the API's unary calls and subscriptions; each
+// subscribed view's frames as binary messages (stream/frame_message.h).
+#pragma once
+
+#include <atomic>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "server/web/json/json.h"
+#include "server/web/stream/pump.h"
+#include "server/web/web_context.h"
+#include "server/web/ws/connection.h"
+
+namespace omniview::web {
+
+inline constexpr char kConsoleSubprotocol[] = "omniview.console.v1";
+
+class ConsoleProtocol : public Protocol {
+ public:
+  // `caller`: set when the upgrade request carried a valid token (Authorization header);
+  // else, with tokens configured, the client's first message must be {"op": "auth"}.
+  ConsoleProtocol(std::weak_ptr<Connection> connection, const WebContext& context, std::optional<Caller> caller);
+  ~ConsoleProtocol() override;
+
+  void on_open() override;
+  void on_message(std::string_view data, bool binary) override;
+  void on_close() override;
+
+ private:
+  struct Channel {
+    std::shared_ptr<std::atomic<bool>> stopping;
+    std::unique_ptr<Pump> pump;
+    std::function<void()> release;  // leaves the pipeline (unsubscribe)
+  };
+
+  void handle(const json::Struct& message, std::optional<int64_t> id);
+  void authenticate(const json::Struct& message, std::optional<int64_t> id);
+  void call(const json::Struct& message, std::optional<int64_t> id);
+  void subscribe(const json::Struct& message, std::optional<int64_t> id);
+  void subscribe_cloud(const json::Struct& message, std::optional<int64_t> id);
+  bool check_stream_limit(std::optional<int64_t> id);
+  void unsubscribe(const json::Struct& message, std::optional<int64_t> id);
+  void stop(uint32_t channel);
+
+  void reply(std::optional<int64_t> id, const std::string& response_json);
+  void fail(std::optional<int64_t> id, grpc::StatusCode code, const std::string& message);
+  void send(std::string text);
+
+  std::weak_ptr<Connection> connection_;
+  const WebContext& context_;
+  std::optional<Caller> caller_;
+  std::string peer_;
+  std::map<uint32_t, Channel> channels_;
+  uint32_t next_channel_ = 1;
+  std::shared_ptr<std::atomic<int>> calls_in_flight_ = std::make_shared<std::atomic<int>>(0);
+  bool closed_ = false;
+};
+
+}  // namespace omniview::web

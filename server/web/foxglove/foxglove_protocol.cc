@@ -1,0 +1,314 @@
+#include "server/web/foxglove/foxglove_protocol.h"
+
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+
+#include "server/pipeline/cloud/cloud_request.h"
+#include "server/pipeline/frame_encoder.h"
+#include "server/web/foxglove/foxglove_messages.h"
+
+namespace omniview::web {
+
+namespace {
+
+constexpr auto kTransformPeriod = std::chrono::seconds(1);
+constexpr auto kReadvertisePeriod = std::chrono::seconds(2);
+
+// The /tf channel's clock: a FrameTransforms message now, then once a period; interrupt()
+// ends a wait at once.
+class Ticker {
+ public:
+  bool wait(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= next_) {
+      next_ = now + kTransformPeriod;
+      return true;
+    }
+    changed_.wait_for(lock, std::min<std::chrono::steady_clock::duration>(timeout, next_ - now),
+                      [&] { return stopped_; });
+    return false;
+  }
+  bool stopped() {
+    std::lock_guard lock(mutex_);
+    return stopped_;
+  }
+  void interrupt() {
+    {
+      std::lock_guard lock(mutex_);
+      stopped_ = true;
+    }
+    changed_.notify_all();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::chrono::steady_clock::time_point next_{};
+  bool stopped_ = false;
+};
+
+std::string channel_json(uint32_t id, const std::string& topic, const google::protobuf::Descriptor* type) {
+  return "{\"id\":" + std::to_string(id) + ",\"topic\":" + json::quote(topic) +
+         ",\"encoding\":\"protobuf\",\"schemaName\":" + json::quote(type->full_name()) +
+         ",\"schemaEncoding\":\"protobuf\",\"schema\":" + json::quote(foxglove_io::schema_base64(type)) + "}";
+}
+
+}  // namespace
+
+FoxgloveProtocol::FoxgloveProtocol(std::weak_ptr<Connection> connection, const WebContext& context, Caller caller)
+    : connection_(std::move(connection)), context_(context), caller_(std::move(caller)) {
+  if (const auto c = connection_.lock()) peer_ = c->peer();
+}
+
+FoxgloveProtocol::~FoxgloveProtocol() { on_close(); }
+
+void FoxgloveProtocol::send(std::string text) {
+  if (const auto c = connection_.lock()) c->send_text(std::move(text));
+}
+
+void FoxgloveProtocol::status(int level, const std::string& message) {
+  send("{\"op\":\"status\",\"level\":" + std::to_string(level) + ",\"message\":" + json::quote(message) + "}");
+}
+
+void FoxgloveProtocol::on_open() {
+  // No capabilities: clients may only subscribe (no publishing, parameters or services).
+  send(std::string("{\"op\":\"serverInfo\",\"name\":\"omniviewd ") + OMNIVIEW_VERSION +
+       "\",\"capabilities\":[],\"supportedEncodings\":[],\"metadata\":{\"role\":" +
+       json::quote(to_string(caller_.role)) + "},\"sessionId\":" +
+       json::quote(std::to_string(std::chrono::system_clock::now().time_since_epoch().count())) + "}");
+  advertise();
+}
+
+void FoxgloveProtocol::advertise() {
+  struct Wanted {
+    Kind kind;
+    std::string target;
+    const google::protobuf::Descriptor* type;
+  };
+  std::map<std::string, Wanted> wanted;  // by topic
+  for (const auto& view : context_.pipeline.list_views()) {
+    const std::string& name = view.spec().name();
+    wanted["/" + name + "/image"] = {Kind::kImage, name, foxglove::CompressedImage::descriptor()};
+    if (view.intrinsics_size() == 4) {
+      wanted["/" + name + "/calibration"] = {Kind::kCalibration, name, foxglove::CameraCalibration::descriptor()};
+    }
+  }
+  const v1::Status status = context_.pipeline.status();  // alive through the loop
+  for (const auto& source : status.sources()) {
+    if (context_.pipeline.provides_clouds(source.name())) {
+      wanted["/" + source.name() + "/cloud"] = {Kind::kCloud, source.name(), foxglove::PointCloud::descriptor()};
+    }
+  }
+  wanted["/tf"] = {Kind::kTransforms, "", foxglove::FrameTransforms::descriptor()};
+
+  // Channels of views deleted (or renamed) since: unadvertised, their subscriptions ended.
+  std::string gone;
+  for (auto it = channels_.begin(); it != channels_.end();) {
+    const auto w = wanted.find(it->second.topic);
+    if (w != wanted.end() && w->second.kind == it->second.kind) {
+      wanted.erase(w);  // still there: advertised already
+      ++it;
+      continue;
+    }
+    std::vector<uint32_t> ended;
+    for (const auto& [id, sub] : subscriptions_) {
+      if (sub.channel == it->first) ended.push_back(id);
+    }
+    for (const uint32_t id : ended) stop(id);
+    gone += (gone.empty() ? "" : ",") + std::to_string(it->first);
+    it = channels_.erase(it);
+  }
+  if (!gone.empty()) send("{\"op\":\"unadvertise\",\"channelIds\":[" + gone + "]}");
+  std::string list;
+  for (const auto& [topic, w] : wanted) {
+    const uint32_t id = next_channel_++;
+    channels_[id] = Channel{w.kind, w.target, topic, w.type->full_name()};
+    list += (list.empty() ? "" : ",") + channel_json(id, topic, w.type);
+  }
+  if (!list.empty()) send("{\"op\":\"advertise\",\"channels\":[" + list + "]}");
+  // Views come and go at run time (CreateView, DeleteView): look again in a while.
+  if (const auto c = connection_.lock()) c->after(kReadvertisePeriod, [this] { advertise(); });
+}
+
+void FoxgloveProtocol::on_message(std::string_view data, bool binary) {
+  if (binary) {
+    return status(2, "binary client messages (publishing, service calls) are not supported by omniviewd");
+  }
+  std::string error;
+  const auto message = json::parse_object(data, &error);
+  if (!message) return status(2, error);
+  try {
+    const auto op = json::string_field(*message, "op");
+    if (!op) return status(2, "message has no 'op'");
+    if (*op == "subscribe") return subscribe(*message);
+    if (*op == "unsubscribe") return unsubscribe(*message);
+    status(2, "op '" + *op + "' is not supported by omniviewd (it serves subscribe and unsubscribe)");
+  } catch (const std::exception& e) {
+    status(2, e.what());
+  }
+}
+
+void FoxgloveProtocol::subscribe(const json::Struct& message) {
+  const json::Value* list = json::find(message, "subscriptions");
+  if (!list || !list->has_list_value()) throw std::invalid_argument("'subscribe' needs a 'subscriptions' list");
+  for (const auto& entry : list->list_value().values()) {
+    if (!entry.has_struct_value()) {
+      status(2, "each subscription must be an object {id, channelId}");
+      continue;
+    }
+    try {
+      const auto id = json::integer_field(entry.struct_value(), "id", 0, UINT32_MAX);
+      const auto channel = json::integer_field(entry.struct_value(), "channelId", 0, UINT32_MAX);
+      if (!id || !channel) {
+        status(2, "a subscription needs 'id' and 'channelId'");
+        continue;
+      }
+      start(static_cast<uint32_t>(*id), static_cast<uint32_t>(*channel));
+    } catch (const ApiError& e) {
+      status(2, e.what());
+    } catch (const std::invalid_argument& e) {
+      status(2, e.what());
+    }
+  }
+}
+
+void FoxgloveProtocol::unsubscribe(const json::Struct& message) {
+  const json::Value* list = json::find(message, "subscriptionIds");
+  if (!list || !list->has_list_value()) throw std::invalid_argument("'unsubscribe' needs a 'subscriptionIds' list");
+  for (const auto& v : list->list_value().values()) {
+    if (!v.has_number_value() || v.number_value() < 0 || v.number_value() > UINT32_MAX) {
+      status(2, "subscription ids are numbers");
+      continue;
+    }
+    const auto id = static_cast<uint32_t>(v.number_value());
+    if (!subscriptions_.count(id)) {
+      status(1, "no subscription " + std::to_string(id));
+      continue;
+    }
+    stop(id);
+  }
+}
+
+void FoxgloveProtocol::start(uint32_t id, uint32_t channel_id) {
+  const auto ch = channels_.find(channel_id);
+  if (ch == channels_.end()) {
+    return status(2, "no channel " + std::to_string(channel_id) + " (see the advertise message)");
+  }
+  if (subscriptions_.count(id)) return status(2, "subscription id " + std::to_string(id) + " is already in use");
+  if (static_cast<int>(subscriptions_.size()) >= context_.limits.max_streams_per_client) {
+    return status(2, "at most " + std::to_string(context_.limits.max_streams_per_client) +
+                         " subscriptions per connection (limits.max_streams_per_client)");
+  }
+  const Channel channel = ch->second;
+  Subscription sub{channel_id, std::make_shared<std::atomic<bool>>(false), nullptr, nullptr};
+  Pump::Source source;
+  const std::string peer = peer_ + " (foxglove)";
+  if (channel.kind == Kind::kImage || channel.kind == Kind::kCalibration) {
+    // JPEG at the default quality: the encoding most clients share, so usually no extra encode.
+    const auto subscriber =
+        context_.pipeline.subscribe(channel.target, peer, encoding_key(v1::JPEG, 0, false), context_.limits.max_rate_hz);
+    sub.release = [&pipeline = context_.pipeline, view = channel.target, subscriber] {
+      pipeline.unsubscribe(view, subscriber.get());
+    };
+    const bool image = channel.kind == Kind::kImage;
+    const std::string frame_id = channel.target + "_optical";
+    source.take = [subscriber, id, image, frame_id](std::chrono::milliseconds timeout) {
+      Pump::Item item;
+      const auto frame = subscriber->take(timeout);
+      if (!frame) return item;
+      if (!*frame) {
+        item.kind = Pump::Item::kEnd;
+        return item;
+      }
+      const auto& f = **frame;
+      item.kind = Pump::Item::kMessage;
+      if (image) {
+        item.message = foxglove_io::message_data(id, foxglove_io::time_ns(f.capture_time()),
+                                                 foxglove_io::compressed_image_prefix(f, frame_id), 2, f.data(),
+                                                 *frame);
+      } else {
+        item.message = foxglove_io::message_data(id, foxglove_io::time_ns(f.capture_time()),
+                                                 foxglove_io::camera_calibration(f, frame_id), 0, {}, nullptr);
+      }
+      return item;
+    };
+    source.sent = [subscriber] { subscriber->count_sent(); };
+    source.interrupt = [subscriber] { subscriber->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
+    source.ended = [subscriber, stopping = sub.stopping, connection = connection_, topic = channel.topic] {
+      if (*stopping) return;
+      if (const auto c = connection.lock()) {
+        c->send_text("{\"op\":\"status\",\"level\":2,\"message\":" +
+                     json::quote(topic + ": " + subscriber->close_reason()) + "}");
+      }
+    };
+  } else if (channel.kind == Kind::kCloud) {
+    v1::CloudOptions options;
+    options.set_voxel_size_m(0.05);  // a few cm: what a 3D panel shows well, a tenth of the bytes
+    const auto subscriber = context_.pipeline.subscribe_cloud(channel.target, peer, cloud_request_from_proto(options),
+                                                              std::min(10.0, context_.limits.max_rate_hz));
+    sub.release = [&pipeline = context_.pipeline, src = channel.target, subscriber] {
+      pipeline.unsubscribe_cloud(src, subscriber.get());
+    };
+    source.take = [subscriber, id](std::chrono::milliseconds timeout) {
+      Pump::Item item;
+      const auto cloud = subscriber->take(timeout);
+      if (!cloud) return item;
+      if (!*cloud) {
+        item.kind = Pump::Item::kEnd;
+        return item;
+      }
+      item.kind = Pump::Item::kMessage;
+      item.message = foxglove_io::message_data(id, foxglove_io::time_ns((*cloud)->stamp()),
+                                               foxglove_io::point_cloud_prefix(**cloud), 6, (*cloud)->data(), *cloud);
+      return item;
+    };
+    source.sent = [subscriber] { subscriber->count_sent(); };
+    source.interrupt = [subscriber] { subscriber->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
+    source.ended = [subscriber, stopping = sub.stopping, connection = connection_, topic = channel.topic] {
+      if (*stopping) return;
+      if (const auto c = connection.lock()) {
+        c->send_text("{\"op\":\"status\",\"level\":2,\"message\":" +
+                     json::quote(topic + ": " + subscriber->close_reason()) + "}");
+      }
+    };
+  } else {
+    auto ticker = std::make_shared<Ticker>();
+    sub.release = [] {};
+    source.take = [ticker, id, &pipeline = context_.pipeline](std::chrono::milliseconds timeout) {
+      Pump::Item item;
+      if (ticker->stopped()) {
+        item.kind = Pump::Item::kEnd;
+        return item;
+      }
+      if (!ticker->wait(timeout)) return item;
+      item.kind = Pump::Item::kMessage;
+      const auto now = std::chrono::duration_cast<std::chrono::nanoseconds>(
+          std::chrono::system_clock::now().time_since_epoch());
+      item.message = foxglove_io::message_data(id, static_cast<uint64_t>(now.count()),
+                                               foxglove_io::frame_transforms(pipeline), 0, {}, nullptr);
+      return item;
+    };
+    source.interrupt = [ticker] { ticker->interrupt(); };
+  }
+  sub.pump = std::make_unique<Pump>(connection_, id, std::move(source));
+  subscriptions_.emplace(id, std::move(sub));
+}
+
+void FoxgloveProtocol::stop(uint32_t id) {
+  const auto it = subscriptions_.find(id);
+  if (it == subscriptions_.end()) return;
+  *it->second.stopping = true;
+  it->second.pump->stop();
+  it->second.release();
+  subscriptions_.erase(it);
+}
+
+void FoxgloveProtocol::on_close() {
+  if (closed_) return;
+  closed_ = true;
+  while (!subscriptions_.empty()) stop(subscriptions_.begin()->first);
+}
+
+}  // namespace omniview::web

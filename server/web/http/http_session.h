@@ -1,0 +1,147 @@
+// One HTTP/1.1 connection (plain or TLS): GET/HEAD of the console's files, keep-alive, and
+// the hand-over to a WebSocket session on an upgrade request. Beast parses; nothing here
+// reads raw bytes.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <boost/asio/ssl.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include "server/web/http/endpoint.h"
+
+namespace omniview::web {
+
+namespace http = beast::http;
+
+inline void shutdown_stream(beast::tcp_stream& s) {
+  beast::error_code ec;
+  s.socket().shutdown(net::ip::tcp::socket::shutdown_send, ec);
+}
+template <class Handler>
+void async_shutdown_stream(beast::tcp_stream& s, Handler&& done) {
+  shutdown_stream(s);
+  done();
+}
+template <class Handler>
+void async_shutdown_stream(beast::ssl_stream<beast::tcp_stream>& s, Handler&& done) {
+  s.async_shutdown([done = std::forward<Handler>(done)](beast::error_code) mutable { done(); });
+}
+
+template <class Stream>
+class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
+ public:
+  HttpSession(Stream&& stream, std::string peer, Endpoint& endpoint, std::shared_ptr<void> slot)
+      : stream_(std::move(stream)), peer_(std::move(peer)), endpoint_(endpoint), slot_(std::move(slot)) {}
+
+  void run() { read_next(); }
+
+ private:
+  void read_next() {
+    parser_.emplace();
+    parser_->header_limit(8 << 10);
+    parser_->body_limit(endpoint_.ws_limits().max_message_bytes);
+    // An idle keep-alive connection gives its place back soon (web.max_connections).
+    beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(15));
+    http::async_read(stream_, buffer_, *parser_,
+                     beast::bind_front_handler(&HttpSession::on_read, this->shared_from_this()));
+  }
+
+  void on_read(beast::error_code ec, size_t) {
+    if (ec == http::error::end_of_stream) return close();
+    if (ec) {
+      // A request too large or malformed gets a reason, not silence.
+      if (ec == http::error::header_limit || ec == http::error::body_limit) {
+        return reply(http::status::payload_too_large, "request too large\n", false);
+      }
+      if (ec != net::error::operation_aborted && ec != beast::error::timeout) {
+        return reply(http::status::bad_request, "malformed HTTP request: " + ec.message() + "\n", false);
+      }
+      return;
+    }
+    Request request = parser_->release();
+    if (beast::websocket::is_upgrade(request)) return upgrade(std::move(request));
+    if (request.method() != http::verb::get && request.method() != http::verb::head) {
+      return reply(http::status::method_not_allowed, "only GET and HEAD are served here\n", request.keep_alive(),
+                   request.version());
+    }
+    const auto found = endpoint_.files().find(std::string(request.target()));
+    if (found.status != 200) {
+      return reply(static_cast<http::status>(found.status), found.status == 404 ? "not found\n" : "bad path\n",
+                   request.keep_alive(), request.version());
+    }
+    http::file_body::value_type body;
+    beast::error_code open_ec;
+    body.open(found.file.c_str(), beast::file_mode::scan, open_ec);
+    if (open_ec) return reply(http::status::not_found, "not found\n", request.keep_alive(), request.version());
+    auto res = std::make_shared<http::response<http::file_body>>(
+        std::piecewise_construct, std::make_tuple(std::move(body)), std::make_tuple(http::status::ok, request.version()));
+    decorate(*res, found.content_type);
+    res->keep_alive(request.keep_alive());
+    res->prepare_payload();
+    if (request.method() == http::verb::head) {
+      auto head = std::make_shared<http::response<http::empty_body>>(http::status::ok, request.version());
+      decorate(*head, found.content_type);
+      head->content_length(res->body().size());
+      head->keep_alive(request.keep_alive());
+      return send(head);
+    }
+    send(res);
+  }
+
+  template <class Body>
+  void decorate(http::response<Body>& res, const std::string& type) {
+    res.set(http::field::server, "omniviewd");
+    res.set(http::field::content_type, type);
+    // The console is always the daemon's current one; the browser asks again (304-free: small files).
+    res.set(http::field::cache_control, "no-cache");
+    res.set("X-Content-Type-Options", "nosniff");
+    res.set("Content-Security-Policy",
+            "default-src 'self'; img-src 'self' blob: data:; connect-src 'self' ws: wss:; frame-ancestors 'none'");
+  }
+
+  void upgrade(Request request) {
+    const UpgradeDecision decision = endpoint_.upgrade(request, peer_);
+    if (decision.status != 101) {
+      return reply(static_cast<http::status>(decision.status), decision.message + "\n", false, request.version());
+    }
+    beast::get_lowest_layer(stream_).expires_never();  // the WebSocket keeps its own timeouts
+    std::make_shared<WsSession<Stream>>(std::move(stream_), peer_, endpoint_.ws_limits(), std::move(slot_))
+        ->start(std::move(request), decision.subprotocol, decision.make);
+  }
+
+  void reply(http::status status, std::string text, bool keep_alive, unsigned version = 11) {
+    auto res = std::make_shared<http::response<http::string_body>>(status, version);
+    decorate(*res, "text/plain; charset=utf-8");
+    res->body() = std::move(text);
+    res->keep_alive(keep_alive);
+    res->prepare_payload();
+    send(res);
+  }
+
+  template <class Response>
+  void send(std::shared_ptr<Response> res) {
+    http::async_write(stream_, *res,
+                      [self = this->shared_from_this(), res](beast::error_code ec, size_t) {
+                        if (ec || !res->keep_alive()) return self->close();
+                        self->read_next();
+                      });
+  }
+
+  void close() {
+    async_shutdown_stream(stream_, [self = this->shared_from_this()] {});
+  }
+
+  Stream stream_;
+  const std::string peer_;
+  Endpoint& endpoint_;
+  std::shared_ptr<void> slot_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+};
+
+}  // namespace omniview::web

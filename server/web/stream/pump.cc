@@ -1,0 +1,73 @@
+#include "server/web/stream/pump.h"
+
+namespace omniview::web {
+
+namespace {
+constexpr auto kPoll = std::chrono::milliseconds(100);  // how often a waiting take() checks for stop
+}
+
+Pump::Pump(std::weak_ptr<Connection> connection, uint32_t channel, Source source) {
+  core_->connection = std::move(connection);
+  core_->channel = channel;
+  core_->source = std::move(source);
+  thread_ = std::thread([core = core_] { run(core); });
+}
+
+Pump::~Pump() { stop(); }
+
+void Pump::stop() {
+  {
+    std::lock_guard lock(core_->mutex);
+    core_->stop = true;
+  }
+  core_->changed.notify_all();
+  if (core_->source.interrupt) core_->source.interrupt();
+  if (thread_.joinable()) {
+    // Stopped from its own thread (see Core): it exits at its next check of `stop`.
+    if (thread_.get_id() == std::this_thread::get_id()) {
+      thread_.detach();
+    } else {
+      thread_.join();
+    }
+  }
+}
+
+void Pump::run(const std::shared_ptr<Core>& core) {
+  while (true) {
+    {
+      std::lock_guard lock(core->mutex);
+      if (core->stop) return;
+    }
+    Item item = core->source.take(kPoll);
+    if (item.kind == Item::kNothing) continue;
+    if (item.kind == Item::kEnd) {
+      if (core->source.ended) core->source.ended();
+      return;
+    }
+    {
+      std::lock_guard lock(core->mutex);
+      if (core->stop) return;
+      core->in_flight = true;
+    }
+    {
+      const auto connection = core->connection.lock();
+      if (!connection) return;
+      connection->send_latest(core->channel, std::move(item.message), [core](bool written) {
+        {
+          std::lock_guard lock(core->mutex);
+          core->in_flight = false;
+          core->written = written;
+        }
+        core->changed.notify_all();
+      });
+    }  // may have been the connection's last owner: this Pump may be gone now, `core` is not
+    std::unique_lock lock(core->mutex);
+    core->changed.wait(lock, [&] { return !core->in_flight || core->stop; });
+    if (core->stop) return;
+    const bool written = core->written;
+    lock.unlock();
+    if (written && core->source.sent) core->source.sent();
+  }
+}
+
+}  // namespace omniview::web

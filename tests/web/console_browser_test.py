@@ -1,0 +1,275 @@
+"""The operator console in headless Chromium (Debian's chromium + chromium-driver, driven
+by Selenium) against the real omniviewd in front of the real spot-mock."""
+import sys
+import time
+import unittest
+from pathlib import Path
+
+from selenium import webdriver
+from selenium.webdriver.chrome.options import Options
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.by import By
+
+import harness
+from harness import OPERATOR_TOKEN, VIEWER_TOKEN, seconds
+
+ARGS = None
+
+
+def browser(width=1280, height=800):
+    options = Options()
+    options.binary_location = "/usr/bin/chromium"
+    for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+              f"--window-size={width},{height}", "--use-gl=swiftshader", "--enable-unsafe-swiftshader"):
+        options.add_argument(a)
+    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+
+
+def wait_until(predicate, timeout, what):
+    deadline = time.monotonic() + timeout
+    last = None
+    while time.monotonic() < deadline:
+        try:
+            last = predicate()
+            if last:
+                return last
+        except Exception as e:  # the page may still be loading
+            last = e
+        time.sleep(0.1)
+    raise AssertionError(f"{what}: not within {timeout:.1f} s (last: {last!r})")
+
+
+# A cheap fingerprint of what a pane's canvas shows.
+CANVAS_SUM = """
+const pane = document.querySelector('.pane[data-view="' + arguments[0] + '"] canvas');
+if (!pane || !pane.width) return null;
+const d = pane.getContext('2d').getImageData(0, 0, pane.width, pane.height).data;
+let s = 0, lit = 0;
+for (let i = 0; i < d.length; i += 4) { s = (s * 31 + d[i] + d[i + 1] * 7) % 1000000007; if (d[i] > 16) lit++; }
+return [s, lit];
+"""
+
+
+class ConsoleBrowserTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        # The furnished room: what the README's screenshot shows.
+        cls.robot = harness.Robot(ARGS, scene="room").__enter__()
+        cls.url = f"http://{cls.robot.web}/"
+
+    @classmethod
+    def tearDownClass(cls):
+        code = cls.robot.stop()
+        assert code == 0, f"omniviewd exited with {code}:\n{cls.robot.log.read_text()}"
+
+    def open(self, token, query="?layout=single&view=front", width=1280, height=800):
+        driver = browser(width, height)
+        self.addCleanup(driver.quit)
+        driver.get(self.url + query + (f"#token={token}" if token else ""))
+        return driver
+
+    def frames(self, driver, view="front"):
+        return driver.execute_script(
+            "const p = (window.omniviewConsole || {panes: []}).panes.find(p => p.view === arguments[0]);"
+            "return p ? p.frames : 0;", view)
+
+    def wait_live(self, driver, view="front"):
+        wait_until(lambda: self.frames(driver, view) >= 2, seconds(20), f"frames of {view} in the page")
+        return wait_until(lambda: (driver.execute_script(CANVAS_SUM, view) or [0, 0])[1] > 100, seconds(5),
+                          f"a drawn frame of {view}")
+
+    def test_live_view_and_drag_steers_through_the_api(self):
+        driver = self.open(OPERATOR_TOKEN)
+        self.wait_live(driver)
+        self.assertEqual(driver.find_element(By.ID, "role").text, "operator")
+        # Frames keep coming: the sequence advances.
+        n = self.frames(driver)
+        wait_until(lambda: self.frames(driver) >= n + 5, seconds(5), "five more frames")
+        before_pixels = driver.execute_script(CANVAS_SUM, "front")
+        yaw0, pitch0 = self.robot.yaw_pitch("front")
+        pane = driver.find_element(By.CSS_SELECTOR, '.pane[data-view="front"]')
+        t0 = time.monotonic()
+        ActionChains(driver).move_to_element(pane).click_and_hold().move_by_offset(60, 0) \
+            .move_by_offset(60, 20).move_by_offset(60, 20).release().perform()
+        yaw1, pitch1 = wait_until(lambda: (lambda yp: yp if yp[0] > yaw0 + 5 else None)(self.robot.yaw_pitch("front")),
+                                  seconds(5), "the drag turning the view left (yaw up)")
+        self.assertGreater(pitch0, pitch1, "dragging down tilts up (pitch falls)")
+        # The page shows the steered view: its pixels change.
+        wait_until(lambda: driver.execute_script(CANVAS_SUM, "front") != before_pixels, seconds(5),
+                   "the canvas showing the new view")
+        print(f"drag: yaw {yaw0:.1f} -> {yaw1:.1f}, pitch {pitch0:.1f} -> {pitch1:.1f}; "
+              f"new picture {time.monotonic() - t0:.2f} s after the drag began", file=sys.stderr)
+        # Double click re-centres on the view as the console first saw it.
+        ActionChains(driver).move_to_element(pane).double_click().perform()
+        wait_until(lambda: abs(self.robot.yaw_pitch("front")[0] - yaw0) < 0.01, seconds(5), "re-centred")
+        # Wheel zooms: hfov narrows.
+        hfov0 = driver.execute_script("return omniviewConsole.panes[0].header.camera.spec.hfovDeg")
+        driver.execute_script("""
+            const el = document.querySelector('.pane[data-view="front"]');
+            el.dispatchEvent(new WheelEvent('wheel', {deltaY: -300, bubbles: true, cancelable: true}));""")
+        wait_until(lambda: driver.execute_script("return omniviewConsole.panes[0].header.camera.spec.hfovDeg") < hfov0 - 5,
+                   seconds(5), "a frame rendered with the zoomed hfov")
+
+    def test_status_shows_the_robots_rate_and_update_latency(self):
+        driver = self.open(OPERATOR_TOKEN, "?layout=split")
+        self.wait_live(driver, "birdseye")
+        self.wait_live(driver, "front")
+        rate = wait_until(lambda: (lambda r: r if r and 10 <= float(r) <= 16.5 else None)(
+            driver.find_element(By.ID, "status").get_attribute("data-source-rate")), seconds(10),
+            "the mock's 15 Hz in the status line")
+        self.assertIn("spot", driver.find_element(By.ID, "status").text)
+        self.assertEqual(driver.find_element(By.ID, "status").get_attribute("data-connected"), "true")
+        # From an UpdateView reply to the first frame of the new revision, in the page.
+        latency = driver.execute_async_script("""
+            const done = arguments[arguments.length - 1];
+            const app = omniviewConsole, pane = app.panes.find(p => p.view === 'front');
+            const t0 = performance.now();
+            app.link.call('UpdateView', {name: 'front', delta: {yawDeg: 1}}).then((view) => {
+              const want = Number(view.revision);
+              const check = () => (Number(pane.header.camera.revision) >= want) ? done(performance.now() - t0)
+                                                                              : setTimeout(check, 2);
+              check();
+            }, (e) => done(-1));""")
+        print(f"UpdateView sent -> a frame of the new revision in the page: {latency:.0f} ms", file=sys.stderr)
+        self.assertGreater(latency, 0)
+        self.assertLess(latency, 1000 * harness.time_scale())
+        if ARGS.screenshot:
+            # The front view as configured (earlier tests steered it), then the picture.
+            driver.execute_script("omniviewConsole.link.call('UpdateView', {name: 'front', set: "
+                                  "{yawDeg: 0, pitchDeg: 27, hfovDeg: 115}})")
+            Path(ARGS.screenshot).parent.mkdir(parents=True, exist_ok=True)
+            time.sleep(1.2)  # a status line with its first fps figures
+            driver.save_screenshot(ARGS.screenshot)
+
+    def test_viewer_token_watches_but_cannot_steer(self):
+        driver = self.open(VIEWER_TOKEN)
+        self.wait_live(driver)
+        self.assertIn("viewer", driver.find_element(By.ID, "role").text)
+        yaw0, _ = self.robot.yaw_pitch("front")
+        pane = driver.find_element(By.CSS_SELECTOR, '.pane[data-view="front"]')
+        ActionChains(driver).move_to_element(pane).click_and_hold().move_by_offset(150, 0).release().perform()
+        toast = wait_until(lambda: driver.find_element(By.ID, "toast").text, seconds(5), "the refusal shown")
+        self.assertIn("PERMISSION_DENIED", toast)
+        self.assertEqual(self.robot.yaw_pitch("front")[0], yaw0)
+
+    def test_wrong_token_is_refused(self):
+        driver = self.open("not-a-token")
+        wait_until(lambda: driver.find_element(By.ID, "login").is_displayed(), seconds(10), "the login form")
+        self.assertIn("unknown token", driver.find_element(By.ID, "status").text)
+        self.assertEqual(self.frames(driver), 0)
+        no_token = self.open(None)
+        wait_until(lambda: no_token.find_element(By.ID, "login").is_displayed(), seconds(10), "the login form")
+
+    def test_phone_layout_fits(self):
+        driver = self.open(OPERATOR_TOKEN, "?layout=split", width=390, height=844)
+        self.wait_live(driver, "front")
+        overflow = driver.execute_script("return document.documentElement.scrollWidth - window.innerWidth")
+        self.assertLessEqual(overflow, 0)
+        boxes = driver.execute_script("return [...document.querySelectorAll('.pane')].map(p => p.getBoundingClientRect().height)")
+        self.assertEqual(len(boxes), 2)
+        self.assertTrue(all(h > 150 for h in boxes), boxes)
+
+    def test_tap_on_the_birdseye_turns_the_front_view_there(self):
+        driver = self.open(OPERATOR_TOKEN, "?layout=split")
+        self.wait_live(driver, "birdseye")
+        self.wait_live(driver, "front")
+        rect = driver.execute_script(
+            "return omniviewConsole.panes.find(p => p.view === 'birdseye').rect")
+        pane = driver.find_element(By.CSS_SELECTOR, '.pane[data-view="birdseye"]')
+        size = pane.size
+        # Ahead and to the left of the robot (forward is up in the bird's-eye, left is left).
+        x = rect["x"] + rect["w"] * 0.25 - size["width"] / 2
+        y = rect["y"] + rect["h"] * 0.2 - size["height"] / 2
+        ActionChains(driver).move_to_element_with_offset(pane, x, y).click().perform()
+        yaw, pitch = wait_until(lambda: (lambda yp: yp if yp[0] > 20 else None)(self.robot.yaw_pitch("front")),
+                                seconds(5), "the front view turned left toward the tapped ground")
+        self.assertLess(yaw, 70)
+        self.assertGreater(pitch, 0, "looks down at the ground")
+        print(f"tap-to-look: front now yaw {yaw:.1f}, pitch {pitch:.1f}", file=sys.stderr)
+
+    def test_paper_layout_cloud_and_backward_camera(self):
+        driver = self.open(OPERATOR_TOKEN, "?layout=paper")
+        self.addCleanup(lambda: self.robot.cli("views", "delete", "console_back"))
+        wait_until(lambda: driver.execute_script("return omniviewConsole.cloud && omniviewConsole.cloud.points"),
+                   seconds(20), "points in the cloud panel")
+        self.wait_live(driver, "front")
+        self.wait_live(driver, "console_back")
+        self.assertIn("console_back", self.robot.cli("views", "list"))
+        yaw_back, _ = self.robot.yaw_pitch("console_back")
+        self.assertAlmostEqual(abs(yaw_back - self.robot.yaw_pitch("front")[0]), 180, delta=0.01)
+        if ARGS.screenshot:
+            driver.save_screenshot(str(Path(ARGS.screenshot).with_name("console_paper.png")))
+
+    def test_pinch_zooms_and_double_tap_recentres(self):
+        driver = self.open(OPERATOR_TOKEN)
+        self.wait_live(driver)
+        hfov0 = driver.execute_script("return omniviewConsole.panes[0].header.camera.spec.hfovDeg")
+        # Two fingers moving apart, as touch pointer events.
+        driver.execute_script("""
+            const el = document.querySelector('.pane[data-view="front"]');
+            const r = el.getBoundingClientRect(), cx = r.left + r.width / 2, cy = r.top + r.height / 2;
+            const ev = (type, id, x) => el.dispatchEvent(new PointerEvent(type, {pointerId: id, pointerType: 'touch',
+                clientX: x, clientY: cy, bubbles: true, isPrimary: id === 1}));
+            ev('pointerdown', 1, cx - 20); ev('pointerdown', 2, cx + 20);
+            for (let d = 30; d <= 120; d += 10) { ev('pointermove', 1, cx - d); ev('pointermove', 2, cx + d); }
+            ev('pointerup', 1, cx - 120); ev('pointerup', 2, cx + 120);""")
+        wait_until(lambda: driver.execute_script("return omniviewConsole.panes[0].header.camera.spec.hfovDeg") < hfov0 - 10,
+                   seconds(5), "a frame rendered with the pinched hfov")
+        # Double tap: back to the view as the page first saw it.
+        driver.execute_script("""
+            const el = document.querySelector('.pane[data-view="front"]');
+            const r = el.getBoundingClientRect(), x = r.left + 50, y = r.top + 50;
+            for (let i = 0; i < 2; i++) for (const type of ['pointerdown', 'pointerup'])
+              el.dispatchEvent(new PointerEvent(type, {pointerId: 7, pointerType: 'touch', clientX: x, clientY: y,
+                                                       bubbles: true, isPrimary: true}));""")
+        wait_until(lambda: abs(driver.execute_script("return omniviewConsole.panes[0].header.camera.spec.hfovDeg") - hfov0)
+                   < 0.01, seconds(5), "the hfov back after a double tap")
+
+    def test_robot_away_shows_the_banner_and_snapshot_downloads(self):
+        driver = self.open(OPERATOR_TOKEN)
+        self.wait_live(driver)
+        downloads = self.robot.dir / "downloads"
+        downloads.mkdir(exist_ok=True)
+        driver.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": str(downloads)})
+        driver.find_element(By.ID, "snapshot").click()
+        jpeg = wait_until(lambda: [p for p in downloads.glob("front-*.jpg") if p.stat().st_size > 0], seconds(5),
+                          "the snapshot downloaded")[0]
+        self.assertEqual(jpeg.read_bytes()[:2], b"\xff\xd8")
+        self.robot.mock_control("--set", "away=true")
+        try:
+            banner = wait_until(lambda: (lambda b: b.text if b.is_displayed() else None)(
+                driver.find_element(By.ID, "banner")), seconds(10), "the disconnected/stale banner")
+            self.assertTrue("Robot disconnected" in banner or "Not live" in banner, banner)
+            wait_until(lambda: driver.find_element(By.CSS_SELECTOR, '.pane[data-view="front"] .stale').is_displayed(),
+                       seconds(10), "the pane marked stale (Frame.stale)")
+        finally:
+            self.robot.mock_control("--set", "away=false")
+        wait_until(lambda: not driver.find_element(By.ID, "banner").is_displayed(), seconds(15), "live again")
+
+    def test_gamepad_steers(self):
+        driver = self.open(OPERATOR_TOKEN)
+        self.wait_live(driver)
+        yaw0, pitch0 = self.robot.yaw_pitch("front")
+        # A gamepad whose left stick is held left: the Gamepad API as the page reads it.
+        driver.execute_script("""
+            const pad = {connected: true, axes: [-1, 0, 0, 0], buttons: []};
+            navigator.getGamepads = () => [pad];
+            setTimeout(() => { pad.axes[0] = 0; }, 500);""")
+        wait_until(lambda: self.robot.yaw_pitch("front")[0] > yaw0 + 10, seconds(5), "the stick turning the view left")
+        self.assertEqual(self.robot.yaw_pitch("front")[1], pitch0)
+
+    def test_zz_daemon_survives_a_page_closed_mid_stream(self):
+        driver = browser()
+        driver.get(self.url + "?layout=split#token=" + OPERATOR_TOKEN)
+        self.wait_live(driver, "front")
+        driver.quit()  # the browser goes, streams and all, without closing anything
+        self.assertTrue(self.robot.alive())
+        wait_until(lambda: "(web)" not in self.robot.status(), seconds(10), "the web clients gone from status")
+        again = self.open(OPERATOR_TOKEN)
+        self.wait_live(again)
+
+
+if __name__ == "__main__":
+    ARGS, rest = harness.programs()
+    unittest.main(argv=[sys.argv[0]] + rest, verbosity=2)
