@@ -104,6 +104,7 @@ void VelodyneSource::on_camera_frames(const std::shared_ptr<const FrameSet>& fra
 
 void VelodyneSource::receive_loop() {
   std::unique_ptr<Vlp16Assembler> assembler;
+  bool partial_first = false;
   std::vector<uint8_t> data;
   std::string sender;
   while (!stopping_) {
@@ -115,12 +116,20 @@ void VelodyneSource::receive_loop() {
     } else if (!cloud_wanted_) {
       assembler.reset();  // nobody watches: no half rotation is kept for later
     } else {
-      if (!assembler) assembler = std::make_unique<Vlp16Assembler>(settings_.calibration, settings_.frame, settings_.returns);
+      if (!assembler) {
+        assembler = std::make_unique<Vlp16Assembler>(settings_.calibration, settings_.frame, settings_.returns);
+        partial_first = true;
+      }
       try {
         done = assembler->add_packet(data.data(), data.size(), std::chrono::system_clock::now(),
                                      "VLP-16 packet from " + sender);
       } catch (const CloudFormatError& e) {
         problem = e.what();
+      }
+      // Decoding began mid-sweep: the first rotation is only its end.
+      if (partial_first && !done.empty()) {
+        done.erase(done.begin());
+        partial_first = false;
       }
     }
     std::lock_guard lock(mutex_);
