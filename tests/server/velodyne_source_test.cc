@@ -2,6 +2,7 @@
 // UDP on loopback to the real omniviewd, whose rotations come back through StreamClouds
 // (real gRPC) coloured from the camera source the velodyne source holds.
 #include <arpa/inet.h>
+#include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -9,11 +10,9 @@
 #include <atomic>
 #include <cstring>
 #include <map>
+#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <thread>
-
-#include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "cloud_scene.h"
 #include "core/synthetic/spot_like_rig.h"
@@ -104,8 +103,8 @@ std::vector<Point> decode(const v1::PointCloud& c) {
 
 // Distance of a world point to the room's nearest wall, floor or ceiling.
 double off_surface(const Vec3& p) {
-  return std::min({std::abs(std::abs(p.x()) - 4.5), std::abs(std::abs(p.y()) - 3.5), std::abs(p.z()),
-                   std::abs(p.z() - 3.0)});
+  return std::min(
+      {std::abs(std::abs(p.x()) - 4.5), std::abs(std::abs(p.y()) - 3.5), std::abs(p.z()), std::abs(p.z() - 3.0)});
 }
 
 class VelodyneSource : public ::testing::Test {

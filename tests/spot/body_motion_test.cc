@@ -1,7 +1,7 @@
 // body in odom from a frame-tree snapshot's edges (the motion a cloud's time sync uses).
-#include <gtest/gtest.h>
-
 #include "spot_adapter/source/body_motion.h"
+
+#include <gtest/gtest.h>
 
 namespace omniview::spot {
 namespace {

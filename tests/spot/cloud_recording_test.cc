@@ -80,8 +80,8 @@ TEST(CloudRecording, RecordedCloudsComeBackFromAReplay) {
   EXPECT_GT(clouds.front()->size(), 1000u);
 
   std::ostringstream replay;
-  replay << "listen: 127.0.0.1:0\nsources:\n  - name: replay\n    type: replay\n    recording: "
-         << folder.string() << "\n    rate_hz: 10\n";
+  replay << "listen: 127.0.0.1:0\nsources:\n  - name: replay\n    type: replay\n    recording: " << folder.string()
+         << "\n    rate_hz: 10\n";
   TempDir replay_dir;
   DaemonProcess player(replay_dir, replay.str());
   auto replay_stub = make_stub(player.address());

@@ -34,7 +34,8 @@ std::chrono::system_clock::time_point cloud_mid_time(const PointCloud& cloud) {
   const auto [lo, hi] = std::minmax_element(cloud.time.begin(), cloud.time.end());
   const double mid_s = 0.5 * (double(*lo) + double(*hi));
   if (!std::isfinite(mid_s)) return cloud.stamp;
-  return cloud.stamp + std::chrono::duration_cast<std::chrono::system_clock::duration>(std::chrono::duration<double>(mid_s));
+  return cloud.stamp +
+         std::chrono::duration_cast<std::chrono::system_clock::duration>(std::chrono::duration<double>(mid_s));
 }
 
 }  // namespace omniview

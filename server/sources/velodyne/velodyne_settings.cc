@@ -34,7 +34,8 @@ VelodyneSettings parse_velodyne_settings(const SourceConfig& config) {
     if (c["elevation_deg"]) {
       const auto v = r.numbers(c["elevation_deg"], key + ".elevation_deg", 16);
       for (size_t i = 0; i < 16; ++i) {
-        if (!(std::abs(v[i]) < 90)) r.fail(c["elevation_deg"], key + ".elevation_deg", "angles must lie in (-90, 90) deg");
+        if (!(std::abs(v[i]) < 90))
+          r.fail(c["elevation_deg"], key + ".elevation_deg", "angles must lie in (-90, 90) deg");
         s.calibration.elevation_deg[i] = v[i];
       }
     }
@@ -47,10 +48,15 @@ VelodyneSettings parse_velodyne_settings(const SourceConfig& config) {
   }
   if (const YAML::Node ret = n["returns"]) {
     const std::string v = r.text(ret, at + ".returns");
-    if (v == "all") s.returns = Vlp16Returns::kAll;
-    else if (v == "strongest") s.returns = Vlp16Returns::kStrongest;
-    else if (v == "last") s.returns = Vlp16Returns::kLast;
-    else r.fail(ret, at + ".returns", "'" + v + "': expected all, strongest or last (which returns of dual-return packets)");
+    if (v == "all")
+      s.returns = Vlp16Returns::kAll;
+    else if (v == "strongest")
+      s.returns = Vlp16Returns::kStrongest;
+    else if (v == "last")
+      s.returns = Vlp16Returns::kLast;
+    else
+      r.fail(ret, at + ".returns",
+             "'" + v + "': expected all, strongest or last (which returns of dual-return packets)");
   }
   if (n["point_time"]) s.point_time = r.boolean(n["point_time"], at + ".point_time");
   return s;

@@ -70,7 +70,7 @@ class VelodyneSource : public Source {
   mutable std::shared_ptr<const Rig> camera_rig_seen_, rig_;
   mutable uint64_t rig_version_ = 0;
 
-  mutable std::mutex mutex_;  // guards what follows
+  mutable std::mutex mutex_;                   // guards what follows
   std::shared_ptr<const PointCloud> pending_;  // the newest rotation no frame set carried yet
   uint64_t packets_ = 0, bad_packets_ = 0, rotations_ = 0;
   std::string last_problem_;
