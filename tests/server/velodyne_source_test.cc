@@ -120,6 +120,7 @@ class VelodyneSource : public ::testing::Test {
       yaml << (i ? ", " : "") << name << ": " << name << ".png";
     }
     port_ = free_udp_port();
+    before_daemon();
     const Pose& T = test::T_body_lidar();
     std::ostringstream config;
     config << "listen: 127.0.0.1:0\nsources:\n"
@@ -131,6 +132,8 @@ class VelodyneSource : public ::testing::Test {
     daemon_ = std::make_unique<DaemonProcess>(dir_, config.str());
     stub_ = make_stub(daemon_->address());
   }
+
+  virtual void before_daemon() {}
 
   synthetic::Scene scene_ = test::textured_room();
   Pose T_world_body_ = make_pose(Vec3(0.3, -0.2, 0.55), 0.4, 0, 0);
@@ -220,6 +223,49 @@ TEST(VelodyneConfig, ErrorsNameTheKey) {
   check("    returns: both\n", "sources[0].returns");
   check("    port: 70000\n", "sources[0].port");
   check("    calibration: {elevation_deg: [1, 2]}\n", "sources[0].calibration.elevation_deg");
+}
+
+// The port is taken when the daemon starts (another program, or the lidar's interface not
+// up yet): the daemon starts anyway, says why in status, and listens once it can.
+class VelodyneBusyPort : public VelodyneSource {
+ protected:
+  void before_daemon() override {
+    squatter_ = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);  // not inherited by the daemon
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons(static_cast<uint16_t>(port_));
+    ASSERT_EQ(bind(squatter_, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  }
+  void TearDown() override {
+    if (squatter_ >= 0) close(squatter_);
+  }
+  int squatter_ = -1;
+};
+
+TEST_F(VelodyneBusyPort, ListensOnceThePortIsFree) {
+  v1::Status status;
+  auto c = make_context();
+  ASSERT_TRUE(stub_->GetStatus(c.get(), v1::GetStatusRequest(), &status).ok());
+  for (auto until = std::chrono::steady_clock::now() + scaled(3s);
+       status.sources(0).message().find("cannot listen") == std::string::npos &&
+       std::chrono::steady_clock::now() < until;) {
+    std::this_thread::sleep_for(50ms);
+    auto again = make_context();
+    ASSERT_TRUE(stub_->GetStatus(again.get(), v1::GetStatusRequest(), &status).ok());
+  }
+  EXPECT_NE(status.sources(0).message().find("cannot listen"), std::string::npos) << status.sources(0).message();
+  close(squatter_);
+  squatter_ = -1;
+  PacketSender sender(scene_, T_world_body_ * test::T_body_lidar(), port_);
+  v1::StreamCloudsRequest request;
+  request.set_source("rig");
+  auto ctx = make_context("", scaled(10s));
+  auto reader = stub_->StreamClouds(ctx.get(), request);
+  v1::PointCloud cloud;
+  ASSERT_TRUE(reader->Read(&cloud)) << reader->Finish().error_message();
+  EXPECT_GT(cloud.point_count(), 27000u);
+  ctx->TryCancel();
 }
 
 }  // namespace

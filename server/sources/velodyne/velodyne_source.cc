@@ -17,15 +17,6 @@ std::unique_ptr<Source> make_cameras(const SourceConfig& config) {
   return make_source(type, SourceConfig{config.name, config.reader, node, key, config.folder});
 }
 
-UdpListener open_socket(const VelodyneSettings& s, const SourceConfig& config) {
-  try {
-    return UdpListener(s.bind, s.port);
-  } catch (const std::exception& e) {
-    const YAML::Node at = config.node["port"] ? config.node["port"] : config.node;
-    config.reader->fail(at, config.path + ".port", e.what());
-  }
-}
-
 }  // namespace
 
 VelodyneSource::VelodyneSource(const SourceConfig& config)
@@ -34,8 +25,7 @@ VelodyneSource::VelodyneSource(const SourceConfig& config)
                                             {"name", "type", "cameras", "bind", "port", "sender", "frame", "parent",
                                              "pose", "calibration", "returns", "point_time"}),
                  parse_velodyne_settings(config))),
-      cameras_(make_cameras(config)),
-      socket_(open_socket(settings_, config)) {
+      cameras_(make_cameras(config)) {
   // A rig known now (files; a robot's arrives later) must take the lidar's frame as asked.
   const auto rig = cameras_->rig();
   const YamlReader& r = *config.reader;
@@ -76,8 +66,6 @@ std::shared_ptr<const Rig> VelodyneSource::rig() const { return with_lidar(camer
 void VelodyneSource::start(FrameCallback on_frame) {
   stopping_ = false;
   receiver_ = std::thread([this] { receive_loop(); });
-  std::cerr << "omniviewd: source '" << name() << "' listens for VLP-16 packets on " << settings_.bind << ":"
-            << socket_.port() << "\n";
   cameras_->start([this, on_frame](std::shared_ptr<const FrameSet> frames) { on_camera_frames(frames, on_frame); });
 }
 
@@ -107,8 +95,30 @@ void VelodyneSource::receive_loop() {
   bool partial_first = false;
   std::vector<uint8_t> data;
   std::string sender;
+  std::unique_ptr<UdpListener> socket;
+  bool told = false;
   while (!stopping_) {
-    if (!socket_.receive(data, sender, std::chrono::milliseconds(100))) continue;
+    if (!socket) {
+      // Bound here, retried each second: the lidar's network interface may come up after
+      // the daemon, and `omniviewd --check` must not need the port a running daemon holds.
+      try {
+        socket = std::make_unique<UdpListener>(settings_.bind, settings_.port);
+        std::cerr << "omniviewd: source '" << name() << "' listens for VLP-16 packets on " << settings_.bind << ":"
+                  << socket->port() << "\n";
+        std::lock_guard lock(mutex_);
+        listen_problem_.clear();
+      } catch (const std::exception& e) {
+        if (!told) std::cerr << "omniviewd: source '" << name() << "': " << e.what() << " (retrying every second)\n";
+        told = true;
+        {
+          std::lock_guard lock(mutex_);
+          listen_problem_ = e.what();
+        }
+        for (int i = 0; i < 10 && !stopping_; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        continue;
+      }
+    }
+    if (!socket->receive(data, sender, std::chrono::milliseconds(100))) continue;
     std::string problem;
     std::vector<PointCloud> done;
     if (!settings_.sender.empty() && sender != settings_.sender) {
@@ -150,6 +160,10 @@ SourceHealth VelodyneSource::health() const {
   SourceHealth h = cameras_->health();
   std::lock_guard lock(mutex_);
   h.errors += bad_packets_;
+  if (!listen_problem_.empty()) {
+    const std::string lidar = "lidar: " + listen_problem_ + " (retrying)";
+    h.message = h.message.empty() ? lidar : h.message + "; " + lidar;
+  }
   if (bad_packets_ > 0) {
     const std::string lidar = "lidar: " + std::to_string(bad_packets_) + " of " + std::to_string(packets_) +
                               " packets skipped (last: " + last_problem_ + "); " + std::to_string(rotations_) +

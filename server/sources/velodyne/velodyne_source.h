@@ -17,9 +17,10 @@
 //     returns: all           # dual-return packets: all, strongest or last
 //     point_time: true       # each point's firing time (seconds after the cloud's stamp)
 //
-// The socket is bound from start-up (a busy port is a config error then) and always read,
-// so no stale packets pile up in the kernel; packets are decoded only while someone
-// watches the source's cloud. Bad packets (size, block flag, azimuth, return mode, wrong
+// The socket is bound when the source starts, and again every second until that works (the
+// lidar's interface may come up after the daemon; status says why meanwhile); it is always
+// read, so no stale packets pile up in the kernel, and packets are decoded only while
+// someone watches the source's cloud. Bad packets (size, block flag, azimuth, return mode, wrong
 // sender) are counted and skipped: status shows the counts in the source's message.
 #pragma once
 
@@ -61,7 +62,6 @@ class VelodyneSource : public Source {
 
   VelodyneSettings settings_;
   std::unique_ptr<Source> cameras_;
-  UdpListener socket_;
   std::atomic<bool> cloud_wanted_{false};
   std::atomic<bool> stopping_{false};
   std::thread receiver_;
@@ -74,6 +74,7 @@ class VelodyneSource : public Source {
   std::shared_ptr<const PointCloud> pending_;  // the newest rotation no frame set carried yet
   uint64_t packets_ = 0, bad_packets_ = 0, rotations_ = 0;
   std::string last_problem_;
+  std::string listen_problem_;  // why the socket cannot be bound (yet); empty once it is
 };
 
 std::unique_ptr<Source> make_velodyne_source(const SourceConfig& config);
