@@ -128,12 +128,14 @@ class VelodyneSource : public ::testing::Test {
            << "    cameras: {type: images, rig: rig.yaml, rate_hz: 20, images: {" << yaml.str() << "}}\n"
            << "    port: " << port_ << "\n    frame: lidar\n    parent: body\n"
            << "    pose: [" << T.translation().x() << ", " << T.translation().y() << ", " << T.translation().z()
-           << ", 0, 0, 0]\n";
+           << ", 0, 0, 0]\n"
+           << extra_keys();
     daemon_ = std::make_unique<DaemonProcess>(dir_, config.str());
     stub_ = make_stub(daemon_->address());
   }
 
   virtual void before_daemon() {}
+  virtual std::string extra_keys() const { return ""; }  // more of the source's keys
 
   synthetic::Scene scene_ = test::textured_room();
   Pose T_world_body_ = make_pose(Vec3(0.3, -0.2, 0.55), 0.4, 0, 0);
@@ -266,6 +268,28 @@ TEST_F(VelodyneBusyPort, ListensOnceThePortIsFree) {
   ASSERT_TRUE(reader->Read(&cloud)) << reader->Finish().error_message();
   EXPECT_GT(cloud.point_count(), 27000u);
   ctx->TryCancel();
+}
+
+// `sender`: packets from any other address are counted and skipped, never decoded.
+class VelodyneOtherSender : public VelodyneSource {
+ protected:
+  std::string extra_keys() const override { return "    sender: 127.0.0.2\n"; }
+};
+
+TEST_F(VelodyneOtherSender, PacketsFromElsewhereAreRefused) {
+  PacketSender sender(scene_, T_world_body_ * test::T_body_lidar(), port_);  // from 127.0.0.1
+  v1::StreamCloudsRequest request;
+  request.set_source("rig");
+  auto ctx = make_context("", scaled(1500ms));
+  auto reader = stub_->StreamClouds(ctx.get(), request);
+  v1::PointCloud cloud;
+  EXPECT_FALSE(reader->Read(&cloud)) << "a cloud from packets of the wrong sender";
+  v1::Status status;
+  auto c = make_context();
+  ASSERT_TRUE(stub_->GetStatus(c.get(), v1::GetStatusRequest(), &status).ok());
+  EXPECT_GT(status.sources(0).errors(), 20u);
+  EXPECT_NE(status.sources(0).message().find("not from the lidar's address 127.0.0.2"), std::string::npos)
+      << status.sources(0).message();
 }
 
 }  // namespace

@@ -64,6 +64,13 @@ std::shared_ptr<const Rig> VelodyneSource::with_lidar(const std::shared_ptr<cons
 std::shared_ptr<const Rig> VelodyneSource::rig() const { return with_lidar(cameras_->rig()); }
 
 void VelodyneSource::start(FrameCallback on_frame) {
+  const std::string& b = settings_.bind;
+  const bool loopback = b.rfind("127.", 0) == 0 || b == "::1" || b == "localhost";
+  if (!loopback && settings_.sender.empty()) {
+    // Anyone who can reach the port could paint points into the cloud an operator trusts.
+    std::cerr << "omniviewd: source '" << name() << "' takes VLP-16 packets from anyone who can reach " << b << ":"
+              << settings_.port << "; set `sender` to the lidar's address\n";
+  }
   stopping_ = false;
   receiver_ = std::thread([this] { receive_loop(); });
   cameras_->start([this, on_frame](std::shared_ptr<const FrameSet> frames) { on_camera_frames(frames, on_frame); });
