@@ -11,6 +11,7 @@
 #include "cli/client/client_commands.h"
 #include "cli/client/command_support.h"
 #include "cli/client/connection.h"
+#include "core/cloud/cloud_file.h"
 #include "core/io/yaml_reader.h"
 #include "core/rig/rig.h"
 #include "server/recording/recording.h"
@@ -112,6 +113,9 @@ int record_command(const std::vector<std::string>& argv) {
     if (!writer) writer.emplace(folder.string(), source);
     if (!frame.joint_positions().empty()) {
       writer->set_next_joints({frame.joint_positions().begin(), frame.joint_positions().end()});
+    }
+    if (!frame.cloud_pcd().empty()) {
+      writer->set_next_cloud(std::make_shared<const PointCloud>(parse_pcd(frame.cloud_pcd(), "the cloud omniviewd sent")));
     }
     writer->write(frame.sequence(), to_time_point(frame.capture_time()), *rig, images);
     ++written;

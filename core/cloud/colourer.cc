@@ -160,6 +160,59 @@ CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(ri
 
 CloudColourer::~CloudColourer() = default;
 
+// Nearest-centre fusion of points [begin, end), camera by camera: each pass reads one
+// camera's arrays in order (a few streams instead of five cameras' at once), and the
+// per-point choice stays as in the point-by-point loop (cameras in rig order, strictly
+// better scores win), so the result is the same.
+void CloudColourer::nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
+                                   size_t begin, size_t end) const {
+  const size_t len = end - begin;
+  std::vector<float> best(len, std::numeric_limits<float>::max()), best_u(len), best_v(len);
+  std::vector<uint8_t> best_cam(len, kNoCamera), hidden(len, 0);
+  const float rel = 1.f + options.occlusion_tolerance_rel, abs_tol = options.occlusion_tolerance_m;
+  for (size_t c = 0; c < passes_.size(); ++c) {
+    const CameraPass& pass = passes_[c];
+    if (!pass.active) continue;
+    const CameraSetup& s = *cameras_[c];
+    const uint8_t* valid = pass.valid.data() + begin;
+    const float* u = pass.u.data() + begin;
+    const float* v = pass.v.data() + begin;
+    const float* range = pass.range.data() + begin;
+    for (size_t j = 0; j < len; ++j) {
+      if (!(valid[j] & 1)) continue;
+      if (options.occlusion) {
+        const float nearest = pass.occluder.ptr<float>(static_cast<int>(v[j] * pass.inv_cell + pass.offset))
+                                  [static_cast<int>(u[j] * pass.inv_cell + pass.offset)];
+        if (range[j] > nearest * rel + abs_tol) {
+          hidden[j] = 1;
+          continue;
+        }
+      }
+      const float du = u[j] - s.cx, dv = v[j] - s.cy;
+      const float score = (du * du + dv * dv) * s.inv_half_diag2;
+      if (score < best[j]) {
+        best[j] = score;
+        best_cam[j] = static_cast<uint8_t>(c);
+        best_u[j] = u[j];
+        best_v[j] = v[j];
+      }
+    }
+  }
+  for (size_t j = 0; j < len; ++j) {
+    uint8_t& flags = cloud.flags[begin + j];
+    if (flags & cloud_flags::kSelf) continue;
+    if (best_cam[j] == kNoCamera) {
+      if (hidden[j]) flags |= cloud_flags::kOccluded;
+      continue;
+    }
+    float rgb[3];
+    sample(input.images[best_cam[j]], best_u[j], best_v[j], rgb);
+    cloud.rgb[begin + j] = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
+    cloud.camera[begin + j] = best_cam[j];
+    flags |= cloud_flags::kColoured;
+  }
+}
+
 ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
                                   const Trajectory* motion) {
   cloud.check("cloud");
@@ -303,6 +356,10 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
   const float rel = 1.f + options.occlusion_tolerance_rel, abs_tol = options.occlusion_tolerance_m;
   cv::parallel_for_(cv::Range(0, static_cast<int>((n + 4095) / 4096)), [&](const cv::Range& chunks) {
     const size_t begin = static_cast<size_t>(chunks.start) * 4096, end = std::min(n, static_cast<size_t>(chunks.end) * 4096);
+    if (!blend) {
+      nearest_centre(cloud, input, options, begin, end);
+      return;
+    }
     for (size_t i = begin; i < end; ++i) {
       uint8_t& flags = cloud.flags[i];
       if (flags & cloud_flags::kSelf) continue;

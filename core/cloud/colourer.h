@@ -98,6 +98,9 @@ class CloudColourer {
   std::shared_ptr<const Rig> rig_;
   std::vector<std::shared_ptr<CameraSetup>> cameras_;
   struct CameraPass;
+  // Phase 2 of colour() for nearest-centre fusion, on points [begin, end).
+  void nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options, size_t begin,
+                      size_t end) const;
   // Scratch, reused between calls.
   std::vector<float> x_, y_, z_;  // points at the cloud's stamp, in the cloud frame
   std::vector<CameraPass> passes_;

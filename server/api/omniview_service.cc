@@ -7,6 +7,7 @@
 #include <google/protobuf/util/time_util.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/cloud/cloud_file.h"
 #include "core/rig/rig.h"
 #include "server/api/request_bounds.h"
 #include "server/api/service_support.h"
@@ -30,6 +31,7 @@ v1::SourceFrame to_source_frame(const FrameSet& frames, uint64_t skipped_before,
       std::chrono::duration_cast<std::chrono::nanoseconds>(frames.capture_time.time_since_epoch()).count());
   if (with_rig) out.set_rig_yaml(rig_to_yaml(*frames.rig));
   if (frames.joints) out.mutable_joint_positions()->insert(frames.joints->begin(), frames.joints->end());
+  if (frames.cloud) out.set_cloud_pcd(format_pcd(*frames.cloud, CloudEncoding::kBinary));
   const auto& cams = frames.rig->cameras();
   for (size_t i = 0; i < frames.images.size() && i < cams.size(); ++i) {
     const cv::Mat& img = frames.images[i];

@@ -47,7 +47,10 @@ void Pipeline::deliver_cloud(SourceChannel& ch, const FrameSet& frames) {
     ch.set_cloud_rig_seen(frames.rig);
     update_wanted_cameras(name);
   }
-  if (!frames.cloud) return;
+  if (!frames.cloud) {
+    delivery.remember(frames);  // its images may suit the next cloud better than that cloud's own
+    return;
+  }
   std::shared_ptr<const JointMap> joints;
   if (const auto it = robot_joints_.find(name); it != robot_joints_.end()) joints = it->second->effective(frames.joints);
   delivery.deliver(frames, joints);

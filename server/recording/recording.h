@@ -9,6 +9,8 @@
 //   images/          one file per camera image, as delivered (JPEG bytes kept) or PNG
 //   joints.csv       optional: the robot's joint positions the source reported with each
 //                    frame set (for the robot overlay of a replay)
+//   clouds.csv       optional: which frame sets carried a lidar cloud, its stamp and file
+//   clouds/          one binary PCD per cloud (points, frame, stamp and every per-point field)
 #pragma once
 
 #include <chrono>
@@ -49,6 +51,9 @@ class RecordingWriter {
   // The joint positions (name -> rad, or m) that go with the next write(): written to
   // joints.csv before that frame set's frames.csv line.
   void set_next_joints(std::map<std::string, double> joints);
+  // The lidar cloud that goes with the next write(): stored as clouds/<frame>.pcd and
+  // indexed in clouds.csv before that frame set's frames.csv line.
+  void set_next_cloud(std::shared_ptr<const PointCloud> cloud);
 
   size_t frames_written() const;
   void close();  // flushes; also done by the destructor
@@ -65,6 +70,9 @@ struct RecordingFrame {
   std::vector<std::string> image_files;  // per camera (rig order); empty: absent
   // The robot's joint positions as recorded with this frame set; null: none recorded.
   std::shared_ptr<const std::map<std::string, double>> joints;
+  // The lidar cloud recorded with this frame set (relative path; empty: none) and its stamp.
+  std::string cloud_file;
+  std::chrono::system_clock::time_point cloud_stamp;
 };
 
 // Reads the index (not the images). Throws ConfigError naming the file and line for a
@@ -82,6 +90,10 @@ struct Recording {
   // differs from its camera's calibration. With `encoded`, also hands back each file's
   // bytes (rig order), so a recording of a replay keeps them as they are.
   std::vector<cv::Mat> load_images(const RecordingFrame& frame, std::vector<EncodedImage>* encoded = nullptr) const;
+  // Reads one frame's cloud (null when it has none). Throws std::runtime_error naming the
+  // file for a missing or malformed one.
+  std::shared_ptr<PointCloud> load_cloud(const RecordingFrame& frame) const;
+  bool has_clouds() const;
 };
 
 // The index of a recording (recording.yaml + frames.csv) as parsed, before any rig or
@@ -103,6 +115,13 @@ RecordingIndex parse_recording_index(const std::string& recording_yaml, const st
 // index, joint and position) to `frames`; `file` names it in messages. Throws ConfigError
 // naming file and line. A last line without its newline is ignored.
 void parse_recording_joints(const std::string& joints_csv, const std::string& file,
+                            std::vector<RecordingFrame>& frames);
+
+// Adds clouds.csv's entries (header "frame,stamp_ns,file", then one line per frame that
+// has a cloud: frame index, the cloud's stamp in ns since the Unix epoch, its PCD file
+// relative to the folder) to `frames`; `file` names it in messages. Throws ConfigError
+// naming file and line. A last line without its newline is ignored.
+void parse_recording_clouds(const std::string& clouds_csv, const std::string& file,
                             std::vector<RecordingFrame>& frames);
 
 // "rig.yaml" for the first rig, "rig_<n>.yaml" for later ones.

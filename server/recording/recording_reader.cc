@@ -184,6 +184,9 @@ Recording Recording::open(const std::string& folder) {
   if (fs::exists(dir / "joints.csv")) {
     parse_recording_joints(read_text_file(dir / "joints.csv"), (dir / "joints.csv").string(), recording.frames);
   }
+  if (fs::exists(dir / "clouds.csv")) {
+    parse_recording_clouds(read_text_file(dir / "clouds.csv"), (dir / "clouds.csv").string(), recording.frames);
+  }
   for (size_t i = 0; i < index.rig_count; ++i) {
     const std::string rig_path = (dir / recording_rig_file(i)).string();
     auto rig = std::make_shared<Rig>(load_rig_yaml(rig_path));

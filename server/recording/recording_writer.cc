@@ -12,6 +12,10 @@
 //                   joint positions one line per joint: frame number (0-based, the line of
 //                   frames.csv after its header), joint name, position (rad or m); written
 //                   before the frame's frames.csv line (older recordings have none)
+//   clouds.csv      optional, header "frame,stamp_ns,file", then per frame set that carried
+//                   a lidar cloud: frame number, the cloud's stamp (ns since the Unix epoch),
+//                   clouds/<frame number>.pcd (binary PCD v0.7 with every field the cloud
+//                   has, its frame and stamp in comments); written before the frame's line
 //
 // Each frame's images and rig are written before its frames.csv line, and the line is
 // flushed at once: every complete line refers only to files already on disk.
@@ -26,6 +30,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "core/cloud/cloud_file.h"
 #include "server/recording/recording.h"
 
 namespace omniview {
@@ -39,6 +44,8 @@ struct RecordingWriter::Impl {
   std::ofstream csv;
   std::ofstream joints_csv;  // opened with the first joints
   std::map<std::string, double> next_joints;
+  std::ofstream clouds_csv;  // opened with the first cloud
+  std::shared_ptr<const PointCloud> next_cloud;
   std::vector<std::string> camera_names;  // fixed by the first rig
   std::string last_rig_yaml;
   size_t rig_count = 0;
@@ -48,7 +55,33 @@ struct RecordingWriter::Impl {
   void start(const Rig& rig);
   size_t rig_index_for(const Rig& rig);
   void write_joints();
+  void write_cloud();
 };
+
+void RecordingWriter::Impl::write_cloud() {
+  const fs::path path = folder / "clouds.csv";
+  if (!clouds_csv.is_open()) {
+    fs::create_directories(folder / "clouds");
+    clouds_csv.open(path, std::ios::binary | std::ios::trunc);
+    clouds_csv << "frame,stamp_ns,file\n";
+  }
+  const std::string file = "clouds/" + std::to_string(frames) + ".pcd";
+  const std::string pcd = format_pcd(*next_cloud, CloudEncoding::kBinary);
+  std::ofstream out(folder / file, std::ios::binary | std::ios::trunc);
+  out.write(pcd.data(), static_cast<std::streamsize>(pcd.size()));
+  out.flush();
+  if (!out) throw std::runtime_error("cannot write '" + (folder / file).string() + "'");
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(next_cloud->stamp.time_since_epoch()).count();
+  clouds_csv << frames << ',' << ns << ',' << file << '\n';
+  clouds_csv.flush();
+  if (!clouds_csv) throw std::runtime_error("cannot append to '" + path.string() + "'");
+  next_cloud.reset();
+}
+
+void RecordingWriter::set_next_cloud(std::shared_ptr<const PointCloud> cloud) {
+  std::lock_guard lock(impl_->mutex);
+  impl_->next_cloud = std::move(cloud);
+}
 
 void RecordingWriter::Impl::write_joints() {
   const fs::path path = folder / "joints.csv";
@@ -173,6 +206,7 @@ void RecordingWriter::write(uint64_t sequence, std::chrono::system_clock::time_p
     write_file(impl_->folder / files[cam], image.bytes.data(), image.bytes.size());
   }
   if (!impl_->next_joints.empty()) impl_->write_joints();
+  if (impl_->next_cloud) impl_->write_cloud();
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(capture_time.time_since_epoch()).count();
   impl_->csv << sequence << ',' << ns << ',' << rig_index;
   for (const auto& file : files) impl_->csv << ',' << file;
@@ -210,6 +244,7 @@ void RecordingWriter::write(const FrameSet& frames) {
     images.push_back(std::move(image));
   }
   if (frames.joints) set_next_joints(*frames.joints);
+  if (frames.cloud) set_next_cloud(frames.cloud);
   write(frames.sequence, frames.capture_time, *frames.rig, images);
 }
 
@@ -223,6 +258,7 @@ void RecordingWriter::close() {
   if (impl_->closed) return;
   impl_->closed = true;
   if (impl_->joints_csv.is_open()) impl_->joints_csv.close();
+  if (impl_->clouds_csv.is_open()) impl_->clouds_csv.close();
   if (impl_->csv.is_open()) {
     impl_->csv.close();
     if (impl_->csv.fail()) throw std::runtime_error("cannot close '" + (impl_->folder / "frames.csv").string() + "'");

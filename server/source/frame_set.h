@@ -11,6 +11,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "core/cloud/point_cloud.h"
+#include "core/cloud/trajectory.h"
 #include "core/rig/rig.h"
 
 namespace omniview {
@@ -40,6 +41,10 @@ struct FrameSet {
   // A lidar cloud taken with these images (its own frame and stamp), for coloured clouds;
   // null when the source has none this cycle or nobody wants clouds (Source::set_cloud_wanted).
   std::shared_ptr<const PointCloud> cloud;
+  // The robot's recent motion: the rig's default frame in a fixed frame (odometry) over the
+  // last moments, up to these images, so a cloud can be coloured from images taken while the
+  // robot moved (time sync). Null when the source knows none: the robot is assumed still.
+  std::shared_ptr<const Trajectory> motion;
 };
 
 }  // namespace omniview

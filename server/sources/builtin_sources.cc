@@ -4,6 +4,7 @@
 
 #include "server/sources/images_source.h"
 #include "server/sources/replay_source.h"
+#include "server/sources/velodyne/velodyne_source.h"
 
 namespace omniview {
 
@@ -18,6 +19,11 @@ void register_builtin_sources() {
                          "plays back a recording made by `omniview record` (keys: recording, rate_hz, speed, loop; "
                          "speed multiplies the recorded timing or rate_hz)",
                          make_replay_source);
+    register_source_type("velodyne",
+                         "a Velodyne VLP-16 over UDP whose rotations become the clouds of the camera source it "
+                         "holds (keys: cameras {type, ...}, bind, port, sender, frame, parent, pose, calibration, "
+                         "returns, point_time)",
+                         make_velodyne_source);
   });
 }
 

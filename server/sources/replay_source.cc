@@ -28,6 +28,7 @@ ReplaySource::ReplaySource(const SourceConfig& config) : Source(config.name) {
   speed_ = positive_number(config, "speed", 1);
   if (config.node["loop"]) loop_ = r.boolean(config.node["loop"], config.path + ".loop");
   current_rig_ = recording_.rigs.at(recording_.frames.front().rig_index);
+  has_clouds_ = recording_.has_clouds();
 
   const size_t count = recording_.frames.size();
   std::chrono::duration<double> period(rate_hz_ > 0 ? 1.0 / rate_hz_ : 0.1);
@@ -82,6 +83,7 @@ ReplaySource::Decoded ReplaySource::decode(size_t index) {
   try {
     // The files' bytes go along: a recording of this replay stores them unchanged.
     decoded.images = recording_.load_images(recording_.frames[index], &decoded.encoded);
+    if (cloud_wanted_) decoded.cloud = recording_.load_cloud(recording_.frames[index]);
   } catch (const std::exception& e) {
     std::lock_guard lock(mutex_);
     ++health_.errors;
@@ -119,6 +121,10 @@ void ReplaySource::run(FrameCallback on_frame) {
       frames->images = std::move(next.images);
       frames->encoded = std::move(next.encoded);
       frames->joints = recording_.frames[index].joints;  // the legs as they were, for the overlay
+      if (next.cloud) {
+        next.cloud->stamp = frames->capture_time + (next.cloud->stamp - recording_.frames[index].capture_time);
+        frames->cloud = std::move(next.cloud);
+      }
       on_frame(std::move(frames));
       std::lock_guard lock(mutex_);
       ++health_.frames;

@@ -12,8 +12,14 @@
 // age and latency from capture_time, and recorded times would make every frame look hours
 // old (and jump back at each loop). sequence keeps increasing across loops for the same
 // reason: consumers rely on it to order and drop frames.
+//
+// A recording that kept lidar clouds (recorded while someone watched the source's cloud)
+// provides them again: each frame set carries its recorded cloud while a cloud is watched,
+// its stamp moved by the same shift as the images' capture time (the lidar-to-camera
+// offset stays as recorded).
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <mutex>
 
@@ -34,6 +40,8 @@ class ReplaySource : public Source {
   void start(FrameCallback on_frame) override;
   void stop() override;
   SourceHealth health() const override;
+  bool provides_clouds() const override { return has_clouds_; }
+  void set_cloud_wanted(bool wanted) override { cloud_wanted_ = wanted; }
 
  private:
   void run(FrameCallback on_frame);
@@ -42,6 +50,7 @@ class ReplaySource : public Source {
   struct Decoded {
     std::vector<cv::Mat> images;
     std::vector<EncodedImage> encoded;  // the files' bytes, per image
+    std::shared_ptr<PointCloud> cloud;  // read only while a cloud is watched
   };
   // Frame `index`'s images, or none after counting a bad one in health.
   Decoded decode(size_t index);
@@ -50,6 +59,8 @@ class ReplaySource : public Source {
   double rate_hz_ = 0;  // 0: the recorded timing
   double speed_ = 1;
   bool loop_ = true;
+  bool has_clouds_ = false;
+  std::atomic<bool> cloud_wanted_{false};
   std::chrono::steady_clock::duration loop_length_{};
   DeliveryThread thread_;
   mutable std::mutex mutex_;  // guards current_rig_ and health_

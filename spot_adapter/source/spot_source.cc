@@ -9,6 +9,7 @@
 #include "bosdyn/api/image_service.grpc.pb.h"
 #include "spot_adapter/convert/camera_model_from_source.h"
 #include "spot_adapter/convert/cloud_from_response.h"
+#include "spot_adapter/source/body_motion.h"
 #include "spot_adapter/source/joint_states.h"
 #include "spot_adapter/source/spot_rig.h"
 
@@ -465,6 +466,13 @@ void SpotSource::finish_call(ImageCall& call) {
   frames->encoded = std::move(set.encoded);
   frames->joints = joints_;
   frames->cloud = next_cloud();
+  if (const auto T_odom_body = pose_in_snapshot(set.edges, kOdomFrame, kBodyFrame)) {
+    try {
+      motion_.add(frames->capture_time, *T_odom_body);
+      frames->motion = std::make_shared<const Trajectory>(motion_);  // a few dozen poses
+    } catch (const std::invalid_argument&) {  // a non-finite pose: colour as if still
+    }
+  }
   on_frame_(std::move(frames));
 }
 

@@ -88,6 +88,7 @@ class SpotSource : public Source {
   std::string connect_note_;  // configured cameras the robot lacks, shown in status
   // Joint positions for the robot overlay, read at most kJointInterval apart while pulling.
   std::shared_ptr<const std::map<std::string, double>> joints_;
+  Trajectory motion_;  // body in odom at each image set's capture time (body_motion.h)
   std::chrono::steady_clock::time_point joints_read_;
   void publish_joints();  // joints_ -> latest_joints_, for latest_joints()
   void refresh_idle_joints();

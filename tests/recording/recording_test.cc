@@ -255,3 +255,60 @@ TEST(RecordingJoints, KeptPerFrameSetAndReadBack) {
 
 }  // namespace
 }  // namespace omniview
+
+namespace omniview {
+namespace {
+
+// Lidar clouds go along with their frame sets (clouds.csv + clouds/N.pcd) and come back
+// with every field and the stamp; frames without stay without; damage names file and line.
+TEST(RecordingClouds, KeptPerFrameSetAndReadBack) {
+  const fs::path dir = fs::temp_directory_path() / ("recording_clouds_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const auto rig = small_rig();
+  auto cloud = std::make_shared<PointCloud>();
+  cloud->frame = "velodyne";
+  cloud->stamp = std::chrono::system_clock::time_point(std::chrono::nanoseconds(1700000000123456789));
+  cloud->points = {{1, 2, 3}, {-4.25f, 5.5f, 0.125f}};
+  cloud->time = {0, 0.05f};
+  cloud->ring = {3, 15};
+  cloud->intensity = {7, 200};
+  {
+    RecordingWriter writer(dir.string(), "robot");
+    for (int i = 0; i < 3; ++i) {
+      FrameSet frames;
+      frames.sequence = i + 1;
+      frames.rig = rig;
+      frames.images = {pattern(i), pattern(i + 1)};
+      if (i != 1) frames.cloud = cloud;
+      writer.write(frames);
+    }
+  }
+  const Recording rec = Recording::open(dir.string());
+  ASSERT_TRUE(rec.has_clouds());
+  EXPECT_FALSE(rec.load_cloud(rec.frames[1]));
+  const auto back = rec.load_cloud(rec.frames[2]);
+  ASSERT_TRUE(back);
+  EXPECT_EQ(back->frame, "velodyne");
+  EXPECT_EQ(back->stamp, cloud->stamp);
+  EXPECT_EQ(back->points, cloud->points);
+  EXPECT_EQ(back->time, cloud->time);
+  EXPECT_EQ(back->ring, cloud->ring);
+  EXPECT_EQ(back->intensity, cloud->intensity);
+  fs::remove_all(dir);
+
+  std::vector<RecordingFrame> frames(2);
+  parse_recording_clouds("frame,stamp_ns,file\n0,5,clouds/0.pcd\n7,5,clouds/7.pcd\n1,5,clouds/1.p", "c.csv", frames);
+  EXPECT_EQ(frames[0].cloud_file, "clouds/0.pcd");
+  EXPECT_TRUE(frames[1].cloud_file.empty()) << "a cut-short last line is ignored";
+  try {
+    parse_recording_clouds("frame,stamp_ns,file\n0,5,../../etc/passwd\n", "rec/clouds.csv", frames);
+    ADD_FAILURE() << "a path outside clouds/ was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("rec/clouds.csv:2: file '../../etc/passwd'"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parse_recording_clouds("frame,stamp,file\n", "c.csv", frames), ConfigError);
+  EXPECT_THROW(parse_recording_clouds("frame,stamp_ns,file\nx,5,clouds/x.pcd\n", "c.csv", frames), ConfigError);
+}
+
+}  // namespace
+}  // namespace omniview

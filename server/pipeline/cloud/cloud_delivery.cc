@@ -73,6 +73,7 @@ std::shared_ptr<const PointCloud> CloudDelivery::self_filtered(
 void CloudDelivery::deliver(const FrameSet& frames,
                             const std::shared_ptr<const std::map<std::string, double>>& joints) {
   if (!frames.cloud || !frames.rig) return;
+  remember(frames);
   const auto now = Clock::now();
   std::vector<std::shared_ptr<CloudSubscriber>> due;
   for (const auto& s : subscribers()) {
@@ -81,19 +82,22 @@ void CloudDelivery::deliver(const FrameSet& frames,
   if (due.empty()) return;
   const Rig& rig = *frames.rig;
 
+  // The complete image set (a camera missing, as when wanted cameras just changed, would
+  // leave its part of the cloud uncoloured) taken nearest the cloud's own time.
+  const FrameSet* taken = history_.nearest(cloud_mid_time(*frames.cloud), frames.rig);
+  if (!taken) {
+    std::lock_guard lock(mutex_);
+    ++stats_.incomplete;
+    return;
+  }
   // Every camera's image at its calibrated size (a source may have decoded smaller ones
-  // for the views); a camera missing from this set (wanted cameras just changed) would
-  // leave its part of the cloud uncoloured: wait for a complete set.
+  // for the views), stamped with its set's capture time for the time sync.
   CameraImages images;
   images.images.resize(rig.cameras().size());
+  images.stamps.assign(rig.cameras().size(), taken->capture_time);
   for (size_t i = 0; i < rig.cameras().size(); ++i) {
     const Camera& c = rig.cameras()[i];
-    if (i >= frames.images.size() || frames.images[i].empty()) {
-      std::lock_guard lock(mutex_);
-      ++stats_.incomplete;
-      return;
-    }
-    const cv::Mat& img = frames.images[i];
+    const cv::Mat& img = taken->images[i];
     if (img.cols == c.width && img.rows == c.height) {
       images.images[i] = img;
     } else {
@@ -124,7 +128,7 @@ void CloudDelivery::deliver(const FrameSet& frames,
     PointCloud coloured = *input;
     const auto t0 = Clock::now();
     try {
-      colourer_->colour(coloured, images, first->request().colour_options());
+      colourer_->colour(coloured, images, first->request().colour_options(), frames.motion.get());
     } catch (const std::invalid_argument& e) {
       // The cloud's frame is not in the rig: nothing any client could fix by asking again.
       const std::string reason = "source '" + source_ + "' cannot colour its cloud: " + e.what();

@@ -1,6 +1,8 @@
 // One source's coloured clouds on their way to clients. The source's render worker hands
-// each frame set that carries a cloud to deliver(): the cloud is coloured with the same
-// frame set's images once per distinct colouring the due clients asked for (the colourer
+// each frame set that carries a cloud to deliver(): the cloud is coloured with the image
+// set taken nearest the middle of its sweep (this one or one of the last few), the robot's
+// motion between the two times taken out when the source reports it (FrameSet::motion;
+// without, the robot is assumed still), once per distinct colouring the due clients asked for (the colourer
 // is rebuilt when the rig changes; points on the robot's body are flagged when the source
 // has a robot model), then shaped and packed once per distinct shape the clients asked for
 // and offered to each one's latest-cloud slot (cloud_subscriber.h). Nothing here waits on
@@ -16,6 +18,7 @@
 #include "core/cloud/colourer.h"
 #include "core/cloud/self_filter.h"
 #include "server/pipeline/cloud/cloud_subscriber.h"
+#include "server/pipeline/cloud/image_history.h"
 #include "server/pipeline/robot_layer.h"
 #include "server/source/frame_set.h"
 
@@ -39,6 +42,10 @@ class CloudDelivery {
   std::vector<std::shared_ptr<CloudSubscriber>> subscribers() const;
   size_t subscriber_count() const;
   void close_all(grpc::StatusCode code, const std::string& reason);
+
+  // Render worker only: every frame set of the source while someone watches its clouds,
+  // so a cloud can take the image set nearest its own time (image_history.h).
+  void remember(const FrameSet& frames) { history_.add(frames); }
 
   // Render worker only. `joints`: every model joint's position for the self-filter (null:
   // the source has no robot model).
@@ -65,6 +72,7 @@ class CloudDelivery {
   // The render worker's alone.
   std::unique_ptr<CloudColourer> colourer_;
   std::shared_ptr<const Rig> colourer_rig_;
+  ImageHistory history_;
   bool warned_frame_ = false;
 };
 
