@@ -56,20 +56,39 @@ export class Pane {
     }
   }
 
-  async subscribe(encoding, why) {
+  async subscribe(encoding, why, video = null) {
     this.encoding = encoding;
     this.fallback = why || null;
     this.el.dataset.encoding = encoding;
     const options = { max_rate_hz: this.rateHz, stale_frames: true };
     if (encoding === 'H264') {
-      this.video = new H264Stream((frame) => this.onPicture(frame), (reason) => this.fallBack(reason));
+      this.video = video || new H264Stream((frame) => this.onPicture(frame), (reason) => this.fallBack(reason),
+        () => this.resync());
       options.encoding = 'H264';
     } else {
       options.quality = 80;
     }
     const channel = await this.link.subscribe(this.view, options, (header, bytes, error) => this.onFrame(header, bytes, error));
-    if (this.stopped) this.link.unsubscribe(channel).catch(() => {});
+    // Stopped, or fallen back to JPEG, meanwhile: this one is not wanted any more.
+    if (this.stopped || this.encoding !== encoding) this.link.unsubscribe(channel).catch(() => {});
     else this.channel = channel;
+  }
+
+  // The decoder needs a key frame: subscribe anew (a new subscriber starts at one). The old
+  // subscription goes first (its frames are ignored from here on: the same access units
+  // twice would break the picture); the decoder skips deltas until that key frame.
+  async resync() {
+    if (this.resyncing || this.stopped || this.encoding !== 'H264') return;
+    this.resyncing = true;
+    const old = this.channel;
+    this.channel = null;
+    if (old !== null) this.link.unsubscribe(old).catch(() => {});
+    try {
+      await this.subscribe('H264', null, this.video);
+    } catch (e) {
+      console.warn('H.264 resync of', this.view, 'failed:', e.message);
+    }
+    this.resyncing = false;
   }
 
   // H.264 failed here: the same view as JPEG from now on.

@@ -52,16 +52,25 @@ export async function h264Support(codec = 'avc1.640028') {
   }
 }
 
+// Decoded frames a slow browser may have queued before it skips ahead (latency over a
+// smooth picture: the console is for steering).
+const MAX_QUEUED = 4;
+// Delta frames without a key frame before asking for one (a new subscription starts at one).
+const MAX_WAITED = 30;
+
 // Feeds one stream's access units to a VideoDecoder. onPicture(videoFrame) owns the frame
-// (it must close it); onError(reason) once, after which the stream is given up.
+// (it must close it); onError(reason) once, after which the stream is given up;
+// onResync() when it needs a key frame soon (it fell behind, or none came).
 export class H264Stream {
-  constructor(onPicture, onError) {
+  constructor(onPicture, onError, onResync = () => {}) {
     this.onPicture = onPicture;
     this.onError = onError;
+    this.onResync = onResync;
     this.decoder = null;
     this.codec = null;
     this.keySeen = false;  // a key frame went in since (re)configuring
     this.waited = 0;       // delta frames skipped while waiting for one
+    this.firstKey = null;  // whether the first access unit was a key frame (as the daemon promises)
     this.failed = false;
     this.timestamp = 0;
     this.queue = Promise.resolve();
@@ -76,6 +85,7 @@ export class H264Stream {
   async pushNow(bytes) {
     if (this.failed) return;
     const key = isKeyFrame(bytes);
+    if (this.firstKey === null) this.firstKey = key;
     if (key) {
       const codec = codecFromAccessUnit(bytes);
       if (!codec) return this.fail('key frame without an SPS');
@@ -88,7 +98,14 @@ export class H264Stream {
       }
       this.keySeen = true;
     } else if (!this.keySeen) {
+      if (++this.waited % MAX_WAITED === 0) this.onResync();
+      return;
+    } else if (this.decoder.decodeQueueSize > MAX_QUEUED) {
+      // Too far behind: what follows depends on frames not decoded yet, so skip to the next
+      // key frame rather than queue more.
+      this.keySeen = false;
       this.waited++;
+      this.onResync();
       return;
     }
     try {

@@ -101,8 +101,8 @@ class ConsoleBrowserTest(unittest.TestCase):
             wait_until(pictures, seconds(5), "a decoded picture")
             first = driver.execute_script(CANVAS_SUM, "front")
             wait_until(lambda: driver.execute_script(CANVAS_SUM, "front") != first, seconds(5), "the video moving")
-            self.assertEqual(driver.execute_script("return omniviewConsole.panes[0].video.waited"), 0,
-                             "the daemon's first frame was a key frame")
+            self.assertTrue(driver.execute_script("return omniviewConsole.panes[0].video.firstKey"),
+                            "the daemon's first frame was a key frame")
             # A decode failure falls back to JPEG by itself, and the status line says why.
             driver.execute_script("omniviewConsole.panes[0].video.fail('test failure')")
             wait_until(lambda: "JPEG (test failure)" in driver.find_element(By.ID, "status").text, seconds(5),
@@ -132,7 +132,7 @@ class ConsoleBrowserTest(unittest.TestCase):
               const fed = [], configs = [], errors = [];
               let decoderError = null;
               window.VideoDecoder = class {
-                constructor(init) { this.state = 'unconfigured'; this.init = init; decoderError = init.error; }
+                constructor(init) { this.state = 'unconfigured'; this.decodeQueueSize = 0; decoderError = init.error; }
                 static async isConfigSupported(c) { return {supported: c.codec.startsWith('avc1.64')}; }
                 configure(c) { configs.push(c); this.state = 'configured'; }
                 decode(chunk) { fed.push(chunk.type); }
@@ -142,20 +142,27 @@ class ConsoleBrowserTest(unittest.TestCase):
               const au = (...nals) => new Uint8Array(nals.flatMap((n) => [0, 0, 0, 1, ...n]));
               const key = au([0x67, 0x64, 0x00, 0x1f, 0xac], [0x68, 0xee], [0x65, 0x88]);
               const delta = au([0x41, 0x9a]);
-              const s = new m.H264Stream((f) => {}, (why) => errors.push(why));
+              let resyncs = 0;
+              const s = new m.H264Stream((f) => {}, (why) => errors.push(why), () => resyncs++);
               await s.push(delta); await s.push(delta);
               await s.push(key); await s.push(delta);
+              s.decoder.decodeQueueSize = 10;  // a browser that cannot keep up
+              await s.push(delta);
+              s.decoder.decodeQueueSize = 0;
+              await s.push(delta); await s.push(key);
               decoderError(new Error('boom'));
               await s.push(key);
               const baseline = new m.H264Stream(() => {}, (why) => errors.push(why));
               await baseline.push(au([0x67, 0x42, 0xc0, 0x1e], [0x68, 0xce], [0x65, 0x88]));
               done({fed, codecs: configs.map((c) => c.codec), desc: configs.some((c) => 'description' in c),
-                    waited: s.waited, errors, types: m.nalUnits(key).map(m.nalType), isKey: [m.isKeyFrame(key), m.isKeyFrame(delta)]});
+                    waited: s.waited, resyncs, firstKey: s.firstKey, errors, types: m.nalUnits(key).map(m.nalType), isKey: [m.isKeyFrame(key), m.isKeyFrame(delta)]});
             }, (e) => done(String(e)));""")
         self.assertEqual(r["types"], [7, 8, 5])
         self.assertEqual(r["isKey"], [True, False])
-        self.assertEqual(r["waited"], 2, "delta frames before the first key frame are not decoded")
-        self.assertEqual(r["fed"], ["key", "delta"], "then key, delta; nothing after the decoder's error")
+        self.assertFalse(r["firstKey"])
+        self.assertEqual(r["waited"], 4, "delta frames without their key frame are not decoded")
+        self.assertEqual(r["resyncs"], 1, "falling behind asks for a key frame (a new subscription)")
+        self.assertEqual(r["fed"], ["key", "delta", "key"], "key, delta, skip to the next key; nothing after an error")
         self.assertEqual(r["codecs"], ["avc1.64001F"], "the codec string from the SPS; Annex-B (no description)")
         self.assertFalse(r["desc"])
         self.assertEqual(r["errors"], ["decoder: boom", "avc1.42C01E not supported"])
