@@ -103,6 +103,14 @@ class ConsoleBrowserTest(unittest.TestCase):
             wait_until(lambda: driver.execute_script(CANVAS_SUM, "front") != first, seconds(5), "the video moving")
             self.assertTrue(driver.execute_script("return omniviewConsole.panes[0].video.firstKey"),
                             "the daemon's first frame was a key frame")
+            # Each picture comes out of the decoder as its own access unit goes in: the decoder
+            # adds no frame of latency (chunks are numbered in order).
+            behind = driver.execute_async_script("""
+                const done = arguments[0], p = omniviewConsole.panes[0], show = p.onPicture.bind(p), lag = [];
+                p.onPicture = (f) => { lag.push(p.video.timestamp - 1 - f.timestamp); show(f); };
+                setTimeout(() => { p.onPicture = show; done(lag); }, 1000);""")
+            self.assertGreater(len(behind), 3)
+            self.assertEqual(sorted(behind)[len(behind) // 2], 0, f"frames the decoder held back: {behind}")
             # A decode failure falls back to JPEG by itself, and the status line says why.
             driver.execute_script("omniviewConsole.panes[0].video.fail('test failure')")
             wait_until(lambda: "JPEG (test failure)" in driver.find_element(By.ID, "status").text, seconds(5),
