@@ -1,6 +1,7 @@
 """The Foxglove WebSocket protocol on omniviewd's web endpoint, spoken by a Python client
 (python3-websockets) against the real daemon in front of spot-mock: serverInfo, advertise,
-subscribe, messages decoded with the advertised protobuf schemas, unsubscribe."""
+subscribe, messages decoded with the advertised protobuf schemas (the H.264 channel also by
+ffmpeg), unsubscribe."""
 import asyncio
 import base64
 import json
