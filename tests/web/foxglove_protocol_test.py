@@ -228,6 +228,23 @@ class FoxgloveProtocolTest(unittest.TestCase):
                         break
         run(go())
 
+    def test_a_view_of_odd_size_has_no_video_channel(self):
+        async def go():
+            async with Client(self.url) as c:
+                # 4:2:0 H.264 needs even sides: such a view is offered as JPEG only.
+                self.robot.cli("views", "create", "--set", "name=odd", "--set", "type=perspective",
+                               "--set", "source=spot", "--set", "width=65", "--set", "height=48")
+                try:
+                    new = None
+                    while not new:
+                        msg = json.loads(await asyncio.wait_for(c.ws.recv(), seconds(5)))
+                        if msg["op"] == "advertise":
+                            new = {ch["topic"] for ch in msg["channels"]}
+                    self.assertEqual(sorted(new), ["/odd/calibration", "/odd/image"])
+                finally:
+                    self.robot.cli("views", "delete", "odd")
+        run(go())
+
     def test_tokens_are_required_and_roles_reported(self):
         async def go():
             bare = f"ws://{self.robot.web}/"
