@@ -122,6 +122,18 @@ class ConsoleBrowserTest(unittest.TestCase):
         wait_until(lambda: self.frames(driver) > frames + 2, seconds(5), "frames after the fallback")
         self.assertEqual(self.encoding(driver), "JPEG")
 
+    def test_a_view_h264_cannot_carry_falls_back_to_jpeg(self):
+        self.robot.cli("views", "create", "--set", "name=odd", "--set", "type=perspective",
+                       "--set", "source=spot", "--set", "width=321", "--set", "height=160")
+        self.addCleanup(self.robot.cli, "views", "delete", "odd")
+        driver = self.open(OPERATOR_TOKEN, "?layout=single&view=odd")
+        self.wait_live(driver, "odd")
+        self.assertEqual(self.encoding(driver, "odd"), "JPEG")
+        # The daemon's refusal (or, in a browser without H.264, that reason) in the status line.
+        status = wait_until(lambda: (lambda t: t if "odd JPEG (" in t else None)(
+            driver.find_element(By.ID, "status").text), seconds(5), "why JPEG, in the status line")
+        print(f"odd-sized view: {status}", file=sys.stderr)
+
     def test_jpeg_forced_by_the_url(self):
         driver = self.open(OPERATOR_TOKEN, "?layout=single&view=front&encoding=jpeg")
         self.wait_live(driver)
