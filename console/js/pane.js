@@ -52,6 +52,7 @@ export class Pane {
     try {
       await this.subscribe('H264');
     } catch (e) {
+      console.warn('H.264 of', this.view, 'refused, JPEG instead:', e.message);
       await this.subscribe('JPEG', e.message);  // e.g. a view of odd size cannot be H.264
     }
   }
@@ -116,7 +117,10 @@ export class Pane {
   // The encoding in use, for the status line: "H264", or "JPEG (why not H.264)".
   encodingLabel() {
     if (!this.encoding) return '…';
-    return this.encoding === 'JPEG' && this.fallback ? `JPEG (${this.fallback})` : this.encoding;
+    if (this.encoding !== 'JPEG' || !this.fallback) return this.encoding;
+    // A short reason: the status line must fit a phone (the whole one is in the console log).
+    const why = this.fallback.length > 48 ? this.fallback.slice(0, 47) + '…' : this.fallback;
+    return `JPEG (${why})`;
   }
 
   onPicture(frame) {
