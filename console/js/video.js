@@ -78,7 +78,9 @@ export class H264Stream {
 
   // In arrival order, each after the one before (a key frame may wait for a config check).
   push(bytes) {
-    this.queue = this.queue.then(() => this.pushNow(bytes));
+    // A throw (configure() refusing what isConfigSupported accepted) gives up the stream
+    // rather than leaving the chain rejected, which would skip every later frame.
+    this.queue = this.queue.then(() => this.pushNow(bytes)).catch((e) => this.fail(String(e && e.message || e)));
     return this.queue;
   }
 

@@ -174,6 +174,10 @@ class ConsoleBrowserTest(unittest.TestCase):
               await s.push(key);
               const baseline = new m.H264Stream(() => {}, (why) => errors.push(why));
               await baseline.push(au([0x67, 0x42, 0xc0, 0x1e], [0x68, 0xce], [0x65, 0x88]));
+              const Stub = window.VideoDecoder;
+              window.VideoDecoder = class extends Stub { configure() { throw new Error('refused'); } };
+              const refused = new m.H264Stream(() => {}, (why) => errors.push(why));
+              await refused.push(key);
               done({fed, codecs: configs.map((c) => c.codec), desc: configs.some((c) => 'description' in c),
                     waited: s.waited, resyncs, firstKey: s.firstKey, errors, types: m.nalUnits(key).map(m.nalType), isKey: [m.isKeyFrame(key), m.isKeyFrame(delta)]});
             }, (e) => done(String(e)));""")
@@ -185,7 +189,7 @@ class ConsoleBrowserTest(unittest.TestCase):
         self.assertEqual(r["fed"], ["key", "delta", "key"], "key, delta, skip to the next key; nothing after an error")
         self.assertEqual(r["codecs"], ["avc1.64001F"], "the codec string from the SPS; Annex-B (no description)")
         self.assertFalse(r["desc"])
-        self.assertEqual(r["errors"], ["decoder: boom", "avc1.42C01E not supported"])
+        self.assertEqual(r["errors"], ["decoder: boom", "avc1.42C01E not supported", "refused"])
 
     def test_live_view_and_drag_steers_through_the_api(self):
         driver = self.open(OPERATOR_TOKEN)
