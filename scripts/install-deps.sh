@@ -13,7 +13,7 @@ packages=(
   libturbojpeg0-dev
   libx264-dev      # H.264 streams (server/video)
   libavcodec-dev   # the video tests decode what the daemon sends (tests/video only)
-  ffmpeg           # ffprobe: the video tests read the CLI's H.264 pipe and RTSP as players do
+  ffmpeg           # ffmpeg, ffprobe: the video tests read the CLI's H.264 pipe, RTSP and the Foxglove video channel as players do
   libgstrtspserver-1.0-dev libgstreamer-plugins-base1.0-dev  # RTSP (server/rtsp): the server library, appsrc
   gstreamer1.0-plugins-good gstreamer1.0-plugins-bad         # ... rtph264pay, h264parse
   libboost-dev  # Boost.Beast and Asio (header-only): omniviewd's HTTP + WebSocket endpoint (server/web)

@@ -20,6 +20,9 @@ const app = {
   layout: 'single',
   cloud: null,
   status: null,
+  // ?encoding=jpeg: JPEG even where the browser decodes H.264 (e.g. to compare, or a
+  // browser whose H.264 decoding misbehaves).
+  forceJpeg: new URLSearchParams(location.search).get('encoding') === 'jpeg',
 };
 window.omniviewConsole = app;  // for people (the devtools) and the browser tests
 
@@ -63,7 +66,7 @@ function addPane(view, hint) {
   const s = spec(view);
   const birdseye = s && s.type === 'BIRDSEYE';
   const pane = new Pane($('panes'), app.link, view,
-    { hint: hint || (birdseye ? 'tap: look there' : 'drag: pan/tilt · pinch/wheel: zoom · double tap: centre') });
+    { forceJpeg: app.forceJpeg, hint: hint || (birdseye ? 'tap: look there' : 'drag: pan/tilt · pinch/wheel: zoom · double tap: centre') });
   attachGestures(pane.el, {
     drag: (dx, dy) => {
       if (birdseye) return;
@@ -140,7 +143,7 @@ function showStatus(st) {
   for (const p of app.panes) {
     const age = p.ageMs();
     if (parts.length) parts.push('\u2003|\u2003');
-    parts.push(`${p.view} ${p.fps().toFixed(1)} fps · ${age === null ? '–' : Math.round(age) + ' ms'} · dropped ${p.skipped}`);
+    parts.push(`${p.view} ${p.encodingLabel()} ${p.fps().toFixed(1)} fps · ${age === null ? '–' : Math.round(age) + ' ms'} · dropped ${p.skipped}`);
   }
   el.replaceChildren(...parts);
   const down = (st.sources || []).filter((s) => !s.connected);
@@ -162,13 +165,13 @@ async function pollStatus() {
   }
 }
 
-function snapshot() {
-  const pane = app.panes.find((p) => p.bytes);
-  if (!pane) return toast('no frame yet');
-  const type = pane.header.encoding === 'PNG' ? 'png' : 'jpg';
+async function snapshot() {
+  const pane = app.panes.find((p) => p.header);
+  const shot = pane && await pane.snapshot();
+  if (!shot) return toast('no frame yet');
   const a = document.createElement('a');
-  a.href = URL.createObjectURL(new Blob([pane.bytes], { type: type === 'png' ? 'image/png' : 'image/jpeg' }));
-  a.download = `${pane.view}-${pane.header.sequence}.${type}`;
+  a.href = URL.createObjectURL(shot.blob);
+  a.download = `${pane.view}-${pane.header.sequence}.${shot.ext}`;
   a.click();
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
 }

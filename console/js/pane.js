@@ -1,9 +1,14 @@
 // One view on screen: its live frames drawn into a canvas (letterboxed), its label, a
 // stale banner (Frame.stale), and the numbers the status line shows.
+//
+// Frames come as H.264 where the browser decodes it (WebCodecs, video.js), else as JPEG:
+// the pane falls back to JPEG by itself when H.264 is not offered, not supported, or fails.
+import { H264Stream, h264Support } from './video.js';
 
 export class Pane {
   constructor(container, link, view, options = {}) {
     this.link = link;
+    this.forceJpeg = !!options.forceJpeg;
     this.view = view;
     this.el = document.createElement('div');
     this.el.className = 'pane';
@@ -33,18 +38,113 @@ export class Pane {
     this.next = null;
     this.fpsWindow = [];
     this.channel = null;
+    this.encoding = null;     // 'H264' or 'JPEG': what the status line shows
+    this.fallback = null;     // why JPEG when H.264 was not used
+    this.video = null;        // H264Stream while on H.264
+    this.picture = null;      // the last decoded VideoFrame (snapshots)
+    this.stopped = false;
   }
 
   async start(rateHz) {
-    this.channel = await this.link.subscribe(this.view, { max_rate_hz: rateHz, quality: 80, stale_frames: true },
-      (header, bytes, error) => this.onFrame(header, bytes, error));
+    this.rateHz = rateHz;
+    const support = this.forceJpeg ? { ok: false, reason: 'forced' } : await h264Support();
+    if (!support.ok) return this.subscribe('JPEG', support.reason);
+    try {
+      await this.subscribe('H264');
+    } catch (e) {
+      console.warn('H.264 of', this.view, 'refused, JPEG instead:', e.message);
+      await this.subscribe('JPEG', e.message);  // e.g. a view of odd size cannot be H.264
+    }
+  }
+
+  async subscribe(encoding, why, video = null) {
+    this.encoding = encoding;
+    this.fallback = why || null;
+    this.el.dataset.encoding = encoding;
+    const options = { max_rate_hz: this.rateHz, stale_frames: true };
+    if (encoding === 'H264') {
+      this.video = video || new H264Stream((frame) => this.onPicture(frame), (reason) => this.fallBack(reason),
+        () => this.resync());
+      options.encoding = 'H264';
+    } else {
+      options.quality = 80;
+    }
+    const channel = await this.link.subscribe(this.view, options, (header, bytes, error) => this.onFrame(header, bytes, error));
+    // Stopped, or fallen back to JPEG, meanwhile: this one is not wanted any more.
+    if (this.stopped || this.encoding !== encoding) this.link.unsubscribe(channel).catch(() => {});
+    else this.channel = channel;
+  }
+
+  // The decoder needs a key frame: subscribe anew (a new subscriber starts at one). The old
+  // subscription goes first (its frames are ignored from here on: the same access units
+  // twice would break the picture); the decoder skips deltas until that key frame.
+  async resync() {
+    if (this.resyncing || this.stopped || this.encoding !== 'H264') return;
+    this.resyncing = true;
+    const old = this.channel;
+    this.channel = null;
+    if (old !== null) this.link.unsubscribe(old).catch(() => {});
+    try {
+      await this.subscribe('H264', null, this.video);
+    } catch (e) {
+      console.warn('H.264 resync of', this.view, 'failed:', e.message);
+    }
+    this.resyncing = false;
+  }
+
+  // H.264 failed here: the same view as JPEG from now on.
+  async fallBack(reason) {
+    console.warn('H.264 of', this.view, 'given up, JPEG instead:', reason);
+    const channel = this.channel;
+    this.channel = null;
+    if (this.video) this.video.close();
+    this.video = null;
+    if (channel !== null) await this.link.unsubscribe(channel).catch(() => {});
+    if (!this.stopped) await this.subscribe('JPEG', reason).catch((e) => this.showStale(e.message));
   }
 
   async stop() {
+    this.stopped = true;
     const channel = this.channel;
     this.channel = null;
     this.el.remove();
+    if (this.video) this.video.close();
+    if (this.picture) this.picture.close();
+    this.picture = null;
     if (channel !== null) await this.link.unsubscribe(channel).catch(() => {});
+  }
+
+  // The encoding in use, for the status line: "H264", or "JPEG (why not H.264)".
+  encodingLabel() {
+    if (!this.encoding) return '…';
+    if (this.encoding !== 'JPEG' || !this.fallback) return this.encoding;
+    // A short reason: the status line must fit a phone (the whole one is in the console log).
+    const why = this.fallback.length > 48 ? this.fallback.slice(0, 47) + '…' : this.fallback;
+    return `JPEG (${why})`;
+  }
+
+  onPicture(frame) {
+    if (this.stopped) return frame.close();
+    this.draw(frame, frame.displayWidth, frame.displayHeight);
+    if (this.picture) this.picture.close();
+    this.picture = frame;
+  }
+
+  // The picture on screen as an image file: the JPEG/PNG as received, or the last decoded
+  // video picture as PNG. Resolves with {blob, ext} or null.
+  async snapshot() {
+    if (this.encoding !== 'H264') {
+      if (!this.bytes) return null;
+      const png = this.header.encoding === 'PNG';
+      return { blob: new Blob([this.bytes], { type: png ? 'image/png' : 'image/jpeg' }), ext: png ? 'png' : 'jpg' };
+    }
+    if (!this.picture) return null;
+    const canvas = document.createElement('canvas');
+    canvas.width = this.picture.displayWidth;
+    canvas.height = this.picture.displayHeight;
+    canvas.getContext('2d').drawImage(this.picture, 0, 0);
+    const blob = await new Promise((resolve) => canvas.toBlob(resolve, 'image/png'));
+    return blob && { blob, ext: 'png' };
   }
 
   onFrame(header, bytes, error) {
@@ -64,6 +164,11 @@ export class Pane {
     this.header = header;
     this.bytes = bytes;
     this.showStale(header.stale ? (header.staleReason || 'no new images') : null);
+    if (header.encoding === 'H264') {
+      // Every access unit goes to the decoder, in order: each is coded against the last.
+      if (this.video) this.video.push(bytes);
+      return;
+    }
     // Only the newest frame is decoded; frames arriving during a decode replace each other.
     this.next = { header, bytes };
     if (!this.decoding) this.decode();
@@ -77,7 +182,7 @@ export class Pane {
       try {
         const type = header.encoding === 'PNG' ? 'image/png' : 'image/jpeg';
         const bitmap = await createImageBitmap(new Blob([bytes], { type }));
-        this.draw(bitmap);
+        this.draw(bitmap, bitmap.width, bitmap.height);
         bitmap.close();
       } catch (e) {
         console.warn('frame of', this.view, 'not decoded:', e);
@@ -86,7 +191,7 @@ export class Pane {
     this.decoding = false;
   }
 
-  draw(bitmap) {
+  draw(image, iw, ih) {
     const dpr = window.devicePixelRatio || 1;
     const w = Math.max(1, Math.round(this.el.clientWidth * dpr));
     const h = Math.max(1, Math.round(this.el.clientHeight * dpr));
@@ -94,16 +199,16 @@ export class Pane {
       this.canvas.width = w;
       this.canvas.height = h;
     }
-    const scale = Math.min(w / bitmap.width, h / bitmap.height);
-    const dw = bitmap.width * scale;
-    const dh = bitmap.height * scale;
+    const scale = Math.min(w / iw, h / ih);
+    const dw = iw * scale;
+    const dh = ih * scale;
     const x = (w - dw) / 2;
     const y = (h - dh) / 2;
     const ctx = this.canvas.getContext('2d');
     ctx.fillStyle = '#000';
     ctx.fillRect(0, 0, w, h);
-    ctx.drawImage(bitmap, x, y, dw, dh);
-    this.rect = { x: x / dpr, y: y / dpr, w: dw / dpr, h: dh / dpr, iw: bitmap.width, ih: bitmap.height };
+    ctx.drawImage(image, x, y, dw, dh);
+    this.rect = { x: x / dpr, y: y / dpr, w: dw / dpr, h: dh / dpr, iw, ih };
   }
 
   showStale(reason) {

@@ -79,6 +79,118 @@ class ConsoleBrowserTest(unittest.TestCase):
         return wait_until(lambda: (driver.execute_script(CANVAS_SUM, view) or [0, 0])[1] > 100, seconds(5),
                           f"a drawn frame of {view}")
 
+    def encoding(self, driver, view="front"):
+        return wait_until(lambda: driver.execute_script(
+            "const p = omniviewConsole.panes.find(p => p.view === arguments[0]);"
+            "return p && p.channel !== null && p.encoding;", view), seconds(10), "the pane's encoding")
+
+    def test_h264_where_webcodecs_decodes_it_else_jpeg_by_itself(self):
+        driver = self.open(OPERATOR_TOKEN)
+        self.wait_live(driver)
+        support = driver.execute_async_script(
+            "import('./js/video.js').then(m => m.h264Support()).then(arguments[0], e => arguments[0]({ok: false, reason: String(e)}))")
+        encoding = self.encoding(driver)
+        status = wait_until(lambda: (lambda t: t if "front" in t else None)(driver.find_element(By.ID, "status").text),
+                            seconds(5), "the status line")
+        print(f"console: WebCodecs H.264 {support}; pane on {encoding}; status: {status}", file=sys.stderr)
+        if support["ok"]:
+            self.assertEqual(encoding, "H264")
+            self.assertIn("front H264", status)
+            # Decoded pictures on the canvas, changing, with no decoder error.
+            pictures = lambda: driver.execute_script("return omniviewConsole.panes[0].picture !== null")
+            wait_until(pictures, seconds(5), "a decoded picture")
+            first = driver.execute_script(CANVAS_SUM, "front")
+            wait_until(lambda: driver.execute_script(CANVAS_SUM, "front") != first, seconds(5), "the video moving")
+            self.assertTrue(driver.execute_script("return omniviewConsole.panes[0].video.firstKey"),
+                            "the daemon's first frame was a key frame")
+            # Each picture comes out of the decoder as its own access unit goes in: the decoder
+            # adds no frame of latency (chunks are numbered in order).
+            behind = driver.execute_async_script("""
+                const done = arguments[0], p = omniviewConsole.panes[0], show = p.onPicture.bind(p), lag = [];
+                p.onPicture = (f) => { lag.push(p.video.timestamp - 1 - f.timestamp); show(f); };
+                setTimeout(() => { p.onPicture = show; done(lag); }, 1000);""")
+            self.assertGreater(len(behind), 3)
+            self.assertEqual(sorted(behind)[len(behind) // 2], 0, f"frames the decoder held back: {behind}")
+            # A decode failure falls back to JPEG by itself, and the status line says why.
+            driver.execute_script("omniviewConsole.panes[0].video.fail('test failure')")
+            wait_until(lambda: "JPEG (test failure)" in driver.find_element(By.ID, "status").text, seconds(5),
+                       "the JPEG fallback in the status line")
+        else:
+            self.assertEqual(encoding, "JPEG")
+            self.assertIn(f"JPEG ({support['reason']})", status)
+        frames = self.frames(driver)
+        wait_until(lambda: self.frames(driver) > frames + 2, seconds(5), "frames after the fallback")
+        self.assertEqual(self.encoding(driver), "JPEG")
+
+    def test_a_view_h264_cannot_carry_falls_back_to_jpeg(self):
+        self.robot.cli("views", "create", "--set", "name=odd", "--set", "type=perspective",
+                       "--set", "source=spot", "--set", "width=321", "--set", "height=160")
+        self.addCleanup(self.robot.cli, "views", "delete", "odd")
+        driver = self.open(OPERATOR_TOKEN, "?layout=single&view=odd")
+        self.wait_live(driver, "odd")
+        self.assertEqual(self.encoding(driver, "odd"), "JPEG")
+        # The daemon's refusal (or, in a browser without H.264, that reason) in the status line.
+        status = wait_until(lambda: (lambda t: t if "odd JPEG (" in t else None)(
+            driver.find_element(By.ID, "status").text), seconds(5), "why JPEG, in the status line")
+        print(f"odd-sized view: {status}", file=sys.stderr)
+
+    def test_jpeg_forced_by_the_url(self):
+        driver = self.open(OPERATOR_TOKEN, "?layout=single&view=front&encoding=jpeg")
+        self.wait_live(driver)
+        self.assertEqual(self.encoding(driver), "JPEG")
+        wait_until(lambda: "front JPEG (forced)" in driver.find_element(By.ID, "status").text, seconds(5),
+                   "JPEG (forced) in the status line")
+
+    def test_video_logic_without_the_decoder(self):
+        # The decode logic against a stand-in VideoDecoder that records what it is fed: runs
+        # whatever this Chromium's own H.264 support.
+        driver = self.open(OPERATOR_TOKEN, "?layout=single&view=front&encoding=jpeg")
+        self.wait_live(driver)
+        r = driver.execute_async_script("""
+            const done = arguments[0];
+            import('./js/video.js').then(async (m) => {
+              const fed = [], configs = [], errors = [];
+              let decoderError = null;
+              window.VideoDecoder = class {
+                constructor(init) { this.state = 'unconfigured'; this.decodeQueueSize = 0; decoderError = init.error; }
+                static async isConfigSupported(c) { return {supported: c.codec.startsWith('avc1.64')}; }
+                configure(c) { configs.push(c); this.state = 'configured'; }
+                decode(chunk) { fed.push(chunk.type); }
+                close() { this.state = 'closed'; }
+              };
+              window.EncodedVideoChunk = class { constructor(c) { this.type = c.type; } };
+              const au = (...nals) => new Uint8Array(nals.flatMap((n) => [0, 0, 0, 1, ...n]));
+              const key = au([0x67, 0x64, 0x00, 0x1f, 0xac], [0x68, 0xee], [0x65, 0x88]);
+              const delta = au([0x41, 0x9a]);
+              let resyncs = 0;
+              const s = new m.H264Stream((f) => {}, (why) => errors.push(why), () => resyncs++);
+              await s.push(delta); await s.push(delta);
+              await s.push(key); await s.push(delta);
+              s.decoder.decodeQueueSize = 10;  // a browser that cannot keep up
+              await s.push(delta);
+              s.decoder.decodeQueueSize = 0;
+              await s.push(delta); await s.push(key);
+              decoderError(new Error('boom'));
+              await s.push(key);
+              const baseline = new m.H264Stream(() => {}, (why) => errors.push(why));
+              await baseline.push(au([0x67, 0x42, 0xc0, 0x1e], [0x68, 0xce], [0x65, 0x88]));
+              const Stub = window.VideoDecoder;
+              window.VideoDecoder = class extends Stub { configure() { throw new Error('refused'); } };
+              const refused = new m.H264Stream(() => {}, (why) => errors.push(why));
+              await refused.push(key);
+              done({fed, codecs: configs.map((c) => c.codec), desc: configs.some((c) => 'description' in c),
+                    waited: s.waited, resyncs, firstKey: s.firstKey, errors, types: m.nalUnits(key).map(m.nalType), isKey: [m.isKeyFrame(key), m.isKeyFrame(delta)]});
+            }, (e) => done(String(e)));""")
+        self.assertEqual(r["types"], [7, 8, 5])
+        self.assertEqual(r["isKey"], [True, False])
+        self.assertFalse(r["firstKey"])
+        self.assertEqual(r["waited"], 4, "delta frames without their key frame are not decoded")
+        self.assertEqual(r["resyncs"], 1, "falling behind asks for a key frame (a new subscription)")
+        self.assertEqual(r["fed"], ["key", "delta", "key"], "key, delta, skip to the next key; nothing after an error")
+        self.assertEqual(r["codecs"], ["avc1.64001F"], "the codec string from the SPS; Annex-B (no description)")
+        self.assertFalse(r["desc"])
+        self.assertEqual(r["errors"], ["decoder: boom", "avc1.42C01E not supported", "refused"])
+
     def test_live_view_and_drag_steers_through_the_api(self):
         driver = self.open(OPERATOR_TOKEN)
         self.wait_live(driver)
@@ -233,9 +345,13 @@ class ConsoleBrowserTest(unittest.TestCase):
         downloads.mkdir(exist_ok=True)
         driver.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": str(downloads)})
         driver.find_element(By.ID, "snapshot").click()
-        jpeg = wait_until(lambda: [p for p in downloads.glob("front-*.jpg") if p.stat().st_size > 0], seconds(5),
-                          "the snapshot downloaded")[0]
-        self.assertEqual(jpeg.read_bytes()[:2], b"\xff\xd8")
+        # JPEG as received, or the last decoded H.264 picture as PNG.
+        shot = wait_until(lambda: [p for p in downloads.glob("front-*.*") if p.suffix in (".jpg", ".png")
+                                   and p.stat().st_size > 0], seconds(5), "the snapshot downloaded")[0]
+        if self.encoding(driver) == "H264":
+            self.assertEqual(shot.read_bytes()[:8], b"\x89PNG\r\n\x1a\n")
+        else:
+            self.assertEqual(shot.read_bytes()[:2], b"\xff\xd8")
         self.robot.mock_control("--set", "away=true")
         try:
             banner = wait_until(lambda: (lambda b: b.text if b.is_displayed() else None)(

@@ -1,10 +1,12 @@
 """The Foxglove WebSocket protocol on omniviewd's web endpoint, spoken by a Python client
 (python3-websockets) against the real daemon in front of spot-mock: serverInfo, advertise,
-subscribe, messages decoded with the advertised protobuf schemas, unsubscribe."""
+subscribe, messages decoded with the advertised protobuf schemas (the H.264 channel also by
+ffmpeg), unsubscribe."""
 import asyncio
 import base64
 import json
 import struct
+import subprocess
 import sys
 import time
 import unittest
@@ -69,6 +71,11 @@ class Client:
                 return stamp, payload
 
 
+def nal_types(unit):
+    """The NAL unit types of an Annex-B access unit, in order."""
+    return [unit[i + 3] & 0x1F for i in range(len(unit) - 3) if unit[i:i + 3] == b"\0\0\1"]
+
+
 def run(coroutine):
     return asyncio.run(coroutine)
 
@@ -93,6 +100,7 @@ class FoxgloveProtocolTest(unittest.TestCase):
                     self.assertEqual(c.advertise["op"], "advertise")
                     schemas = {t: ch["schemaName"] for t, ch in c.channels.items()}
                     self.assertEqual(schemas["/front/image"], "foxglove.CompressedImage")
+                    self.assertEqual(schemas["/front/video"], "foxglove.CompressedVideo")
                     self.assertEqual(schemas["/front/calibration"], "foxglove.CameraCalibration")
                     self.assertEqual(schemas["/birdseye/image"], "foxglove.CompressedImage")
                     self.assertEqual(schemas["/spot/cloud"], "foxglove.PointCloud")
@@ -124,6 +132,40 @@ class FoxgloveProtocolTest(unittest.TestCase):
                 self.assertEqual(children["front_optical"], "front")
                 self.assertIn("front", children)
                 self.assertIn("frontleft_fisheye", children)
+        run(go())
+
+    def test_video_starts_at_a_key_frame_and_decodes(self):
+        async def go():
+            async with Client(self.url) as c:
+                # The JPEG channel beside it: both served at once, each its own encoding.
+                await c.subscribe((11, "/front/video"), (12, "/front/image"))
+                Video = decoder(c.channels["/front/video"])
+                units = []
+                for _ in range(10):
+                    stamp, payload = await c.next(11, seconds(15))
+                    video = Video.FromString(payload)
+                    self.assertEqual(video.format, "h264")
+                    self.assertEqual(video.frame_id, "front_optical")
+                    self.assertEqual(stamp, video.timestamp.seconds * 10**9 + video.timestamp.nanos)
+                    units.append(video.data)
+                self.assertEqual(units[0][:4], b"\0\0\0\1", "Annex-B")
+                types = [nal_types(u) for u in units]
+                self.assertTrue({7, 8, 5} <= set(types[0]), f"first message a key frame with SPS/PPS: {types[0]}")
+                self.assertTrue(all(5 not in t for t in types[1:3]), f"then delta frames: {types[:3]}")
+                image = decoder(c.channels["/front/image"]).FromString(
+                    (await c.next(12, seconds(5)))[1])
+                self.assertEqual(image.format, "jpeg")
+            # A real decoder takes the stream from its first message, every frame 320x160.
+            out = subprocess.run(["ffmpeg", "-v", "error", "-f", "h264", "-i", "-", "-f", "rawvideo",
+                                  "-pix_fmt", "gray", "-"], input=b"".join(units), capture_output=True,
+                                 timeout=seconds(20))
+            self.assertEqual(out.returncode, 0, out.stderr.decode())
+            self.assertEqual(out.stderr, b"", "decodes without errors")
+            self.assertEqual(len(out.stdout), 10 * 320 * 160)
+            probe = subprocess.run(["ffprobe", "-v", "error", "-f", "h264", "-show_entries", "stream=width,height",
+                                    "-of", "csv=p=0", "-"], input=b"".join(units), capture_output=True,
+                                   timeout=seconds(20))
+            self.assertEqual(probe.stdout.decode().strip(), "320,160")
         run(go())
 
     def test_cloud_decodes_and_never_holds_a_view_back(self):
@@ -173,7 +215,7 @@ class FoxgloveProtocolTest(unittest.TestCase):
                         msg = json.loads(await asyncio.wait_for(c.ws.recv(), seconds(5)))
                         if msg["op"] == "advertise":
                             new = {ch["topic"]: ch for ch in msg["channels"]}
-                    self.assertEqual(sorted(new), ["/side/calibration", "/side/image"])
+                    self.assertEqual(sorted(new), ["/side/calibration", "/side/image", "/side/video"])
                     await c.ws.send(json.dumps({"op": "subscribe", "subscriptions": [
                         {"id": 9, "channelId": new["/side/image"]["id"]}]}))
                 finally:
@@ -184,6 +226,23 @@ class FoxgloveProtocolTest(unittest.TestCase):
                         self.assertEqual(sorted(json.loads(raw)["channelIds"]),
                                          sorted(ch["id"] for ch in new.values()))
                         break
+        run(go())
+
+    def test_a_view_of_odd_size_has_no_video_channel(self):
+        async def go():
+            async with Client(self.url) as c:
+                # 4:2:0 H.264 needs even sides: such a view is offered as JPEG only.
+                self.robot.cli("views", "create", "--set", "name=odd", "--set", "type=perspective",
+                               "--set", "source=spot", "--set", "width=65", "--set", "height=48")
+                try:
+                    new = None
+                    while not new:
+                        msg = json.loads(await asyncio.wait_for(c.ws.recv(), seconds(5)))
+                        if msg["op"] == "advertise":
+                            new = {ch["topic"] for ch in msg["channels"]}
+                    self.assertEqual(sorted(new), ["/odd/calibration", "/odd/image"])
+                finally:
+                    self.robot.cli("views", "delete", "odd")
         run(go())
 
     def test_tokens_are_required_and_roles_reported(self):

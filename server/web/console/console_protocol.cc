@@ -193,11 +193,12 @@ void ConsoleProtocol::subscribe(const json::Struct& message, std::optional<int64
   if (!check_stream_limit(id)) return;
   v1::Encoding encoding = v1::JPEG;
   if (const auto name = json::string_field(message, "encoding")) {
-    if (!v1::Encoding_Parse(*name, &encoding)) throw std::invalid_argument("'encoding' must be JPEG, PNG or RAW");
+    if (!v1::Encoding_Parse(*name, &encoding)) throw std::invalid_argument("'encoding' must be JPEG, PNG, RAW or H264");
   }
   const int quality = static_cast<int>(json::integer_field(message, "quality", 0, 100).value_or(0));
   const bool gray = json::bool_field(message, "gray").value_or(false);
-  const EncodingKey key = encoding_key(encoding, quality, gray);
+  const int kbps = static_cast<int>(json::integer_field(message, "max_bitrate_kbps", 0, INT32_MAX).value_or(0));
+  const EncodingKey key = encoding_key(encoding, quality, gray, kbps);
   const double asked = json::number_field(message, "max_rate_hz").value_or(0);
   if (asked < 0) throw std::invalid_argument("'max_rate_hz' must be >= 0 (0: as fast as frames come)");
   const double rate = asked == 0 ? context_.limits.max_rate_hz : std::min(asked, context_.limits.max_rate_hz);

@@ -138,6 +138,14 @@ std::string compressed_image_prefix(const v1::Frame& frame, const std::string& f
   return image.SerializeAsString();
 }
 
+std::string compressed_video_prefix(const v1::Frame& frame, const std::string& frame_id) {
+  foxglove::CompressedVideo video;
+  *video.mutable_timestamp() = frame.capture_time();
+  video.set_frame_id(frame_id);
+  video.set_format("h264");
+  return video.SerializeAsString();
+}
+
 std::string camera_calibration(const v1::Frame& frame, const std::string& frame_id) {
   const auto& k = frame.camera().intrinsics();
   if (k.size() != 4) return "";

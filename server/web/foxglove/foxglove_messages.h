@@ -26,6 +26,8 @@ OutMessage message_data(uint32_t subscription, uint64_t time_ns, const std::stri
 
 // The messages, as serialized payload prefixes (see message_data).
 std::string compressed_image_prefix(const v1::Frame& frame, const std::string& frame_id);
+// An H264 frame (one access unit) as a CompressedVideo prefix.
+std::string compressed_video_prefix(const v1::Frame& frame, const std::string& frame_id);
 // Empty when the view is not a pinhole camera (panoramas, fisheye).
 std::string camera_calibration(const v1::Frame& frame, const std::string& frame_id);
 std::string point_cloud_prefix(const v1::PointCloud& cloud);

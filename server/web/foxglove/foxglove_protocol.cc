@@ -6,6 +6,7 @@
 
 #include "server/pipeline/cloud/cloud_request.h"
 #include "server/pipeline/frame_encoder.h"
+#include "server/video/h264_encoder.h"
 #include "server/web/foxglove/foxglove_messages.h"
 
 namespace omniview::web {
@@ -49,6 +50,19 @@ class Ticker {
   bool stopped_ = false;
 };
 
+// Whether a view's size can be H.264 (4:2:0 needs even sides): odd ones get no video channel.
+bool h264_size(int width, int height) {
+  video::H264Settings settings;
+  settings.width = width;
+  settings.height = height;
+  try {
+    video::check(settings);
+    return true;
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+}
+
 std::string channel_json(uint32_t id, const std::string& topic, const google::protobuf::Descriptor* type) {
   return "{\"id\":" + std::to_string(id) + ",\"topic\":" + json::quote(topic) +
          ",\"encoding\":\"protobuf\",\"schemaName\":" + json::quote(type->full_name()) +
@@ -91,6 +105,10 @@ void FoxgloveProtocol::advertise() {
   for (const auto& view : context_.pipeline.list_views()) {
     const std::string& name = view.spec().name();
     wanted["/" + name + "/image"] = {Kind::kImage, name, foxglove::CompressedImage::descriptor()};
+    // Beside the JPEG channel, for clients that decode H.264 (a fraction of the bits).
+    if (h264_size(view.spec().width(), view.spec().height())) {
+      wanted["/" + name + "/video"] = {Kind::kVideo, name, foxglove::CompressedVideo::descriptor()};
+    }
     if (view.intrinsics_size() == 4) {
       wanted["/" + name + "/calibration"] = {Kind::kCalibration, name, foxglove::CameraCalibration::descriptor()};
     }
@@ -205,16 +223,19 @@ void FoxgloveProtocol::start(uint32_t id, uint32_t channel_id) {
   Subscription sub{channel_id, std::make_shared<std::atomic<bool>>(false), nullptr, nullptr};
   Pump::Source source;
   const std::string peer = peer_ + " (foxglove)";
-  if (channel.kind == Kind::kImage || channel.kind == Kind::kCalibration) {
-    // JPEG at the default quality: the encoding most clients share, so usually no extra encode.
+  if (channel.kind == Kind::kImage || channel.kind == Kind::kVideo || channel.kind == Kind::kCalibration) {
+    // The default quality: the encoding most clients share, so usually no extra encode. A
+    // video subscriber joins its group's one encoder at a key frame, and after a frame it
+    // could not take skips to the next key frame (Subscriber), so no broken picture.
+    const v1::Encoding encoding = channel.kind == Kind::kVideo ? v1::H264 : v1::JPEG;
     const auto subscriber =
-        context_.pipeline.subscribe(channel.target, peer, encoding_key(v1::JPEG, 0, false), context_.limits.max_rate_hz);
+        context_.pipeline.subscribe(channel.target, peer, encoding_key(encoding, 0, false), context_.limits.max_rate_hz);
     sub.release = [&pipeline = context_.pipeline, view = channel.target, subscriber] {
       pipeline.unsubscribe(view, subscriber.get());
     };
-    const bool image = channel.kind == Kind::kImage;
+    const Kind kind = channel.kind;
     const std::string frame_id = channel.target + "_optical";
-    source.take = [subscriber, id, image, frame_id](std::chrono::milliseconds timeout) {
+    source.take = [subscriber, id, kind, frame_id](std::chrono::milliseconds timeout) {
       Pump::Item item;
       const auto frame = subscriber->take(timeout);
       if (!frame) return item;
@@ -224,9 +245,13 @@ void FoxgloveProtocol::start(uint32_t id, uint32_t channel_id) {
       }
       const auto& f = **frame;
       item.kind = Pump::Item::kMessage;
-      if (image) {
+      if (kind == Kind::kImage) {
         item.message = foxglove_io::message_data(id, foxglove_io::time_ns(f.capture_time()),
                                                  foxglove_io::compressed_image_prefix(f, frame_id), 2, f.data(),
+                                                 *frame);
+      } else if (kind == Kind::kVideo) {
+        item.message = foxglove_io::message_data(id, foxglove_io::time_ns(f.capture_time()),
+                                                 foxglove_io::compressed_video_prefix(f, frame_id), 3, f.data(),
                                                  *frame);
       } else {
         item.message = foxglove_io::message_data(id, foxglove_io::time_ns(f.capture_time()),

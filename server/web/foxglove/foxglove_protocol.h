@@ -35,7 +35,7 @@ class FoxgloveProtocol : public Protocol {
   void on_close() override;
 
  private:
-  enum class Kind { kImage, kCalibration, kCloud, kTransforms };
+  enum class Kind { kImage, kVideo, kCalibration, kCloud, kTransforms };
   struct Channel {
     Kind kind;
     std::string target;  // the view or source
