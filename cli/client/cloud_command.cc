@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 
 #include "cli/client/client_commands.h"
 #include "cli/client/cloud_decode.h"
@@ -91,10 +92,17 @@ void save(const v1::PointCloud& message, const std::string& path, bool coloured_
     for (size_t i = 0; i < cloud.size(); ++i) keep[i] = cloud.flags[i] & cloud_flags::kColoured;
     cloud.filter(keep);
   }
+  // As `record -o`: the folder the user named is made (scans/scan.ply into a new scans/).
+  if (const auto folder = std::filesystem::path(path).parent_path(); !folder.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(folder, ec);
+    if (ec) throw std::runtime_error(folder.string() + ": cannot make the folder: " + ec.message());
+  }
   save_cloud(cloud, path);
   const auto& c = message.counts();
   std::cout << path << ": " << cloud.size() << " points in '" << message.frame() << "' (of " << message.input_points()
-            << " from source '" << message.source() << "'): coloured " << c.coloured() << ", occluded "
+            << " from source '" << message.source() << "'); of the " << message.point_count()
+            << " the daemon sent: coloured " << c.coloured() << ", occluded "
             << c.occluded() << ", self-filtered " << c.self_filtered() << ", unseen " << c.unseen()
             << "; sequence " << message.sequence() << ", captured " << format_time(message.stamp()) << ", coloured in "
             << fixed(message.colour_ms(), 1) << " ms\n";

@@ -36,7 +36,8 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
     }
     if (key.encoding == v1::H264) {
       if (video == nullptr) throw std::logic_error("an H.264 frame without its group's encoder");
-      auto au = video->encode(rendered.image, rendered.arrival);
+      auto au = video->encode(rendered.image, rendered.arrival, view.stats().fps);
+      if (au.data.empty()) return;  // a new stream's first frame: it only measured the rate
       frame->set_encoding(v1::H264);
       frame->set_width(rendered.image.cols);
       frame->set_height(rendered.image.rows);

@@ -1,6 +1,7 @@
 #include "server/pipeline/video_stream.h"
 
 #include <algorithm>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 
 namespace omniview {
@@ -22,7 +23,7 @@ bool VideoStream::take_turn(Clock::time_point now) {
   return true;
 }
 
-video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point arrival) {
+video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point arrival, double view_fps) {
   std::lock_guard lock(mutex_);
   const cv::Mat* pixels = &image;
   if (key_.gray && image.channels() == 3) {
@@ -30,11 +31,20 @@ video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point ar
     pixels = &grey_;
   }
   const auto now = Clock::now();
+  // The rate frames really come at (the source's, or the group's if lower), averaged.
+  if (last_arrival_ != Clock::time_point{} && arrival > last_arrival_) {
+    const double interval = std::chrono::duration<double>(arrival - last_arrival_).count();
+    mean_interval_s_ = mean_interval_s_ == 0 ? interval : 0.9 * mean_interval_s_ + 0.1 * interval;
+  }
+  last_arrival_ = arrival;
   if (!encoder_ || encoder_->settings().width != pixels->cols || encoder_->settings().height != pixels->rows) {
+    double fps = view_fps > 0 ? view_fps : (mean_interval_s_ > 0 ? 1.0 / mean_interval_s_ : 0.0);
+    if (fps <= 0) return {};  // the next frame tells the rate
+    if (key_.rate_mhz > 0) fps = std::min(fps, key_.rate_mhz / 1000.0);
     video::H264Settings settings;
     settings.width = pixels->cols;
     settings.height = pixels->rows;
-    settings.fps = key_.rate_mhz > 0 ? std::min(key_.rate_mhz / 1000.0, 60.0) : 30.0;
+    settings.fps = std::clamp(std::round(fps * 100) / 100, 0.1, 120.0);
     settings.crf = h264_crf(key_.quality);
     settings.max_kbps = key_.max_kbps;
     encoder_.reset();  // the old one's memory first
@@ -44,13 +54,7 @@ video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point ar
   bool key = false;
   if (key_wanted_ && (last_key_ == Clock::time_point{} || now - last_key_ >= kMinKeyInterval)) key = true;
   if (now - last_key_ >= kMaxKeyInterval) key = true;
-  // The rate frames really come at (the source's, or the group's if lower), averaged.
-  if (last_arrival_ != Clock::time_point{} && arrival > last_arrival_) {
-    const double interval = std::chrono::duration<double>(arrival - last_arrival_).count();
-    mean_interval_s_ = mean_interval_s_ == 0 ? interval : 0.9 * mean_interval_s_ + 0.1 * interval;
-    encoder_->set_frame_rate(1.0 / mean_interval_s_);
-  }
-  last_arrival_ = arrival;
+  if (mean_interval_s_ > 0) encoder_->set_frame_rate(1.0 / mean_interval_s_);
   const auto pts_ms = std::chrono::duration_cast<std::chrono::milliseconds>(arrival.time_since_epoch()).count();
   video::AccessUnit au = encoder_->encode(*pixels, pts_ms, key);
   if (au.key_frame) {

@@ -36,20 +36,30 @@ class VideoStream {
 
   // Render thread: whether the group is due a frame at its rate; if so, its turn is taken.
   bool take_turn(Clock::time_point now);
+  // The frame rate the stream's SPS declares (0: no encoder yet). For tests and status.
+  double declared_fps() const {
+    std::lock_guard lock(mutex_);
+    return encoder_ ? encoder_->settings().fps : 0;
+  }
   // Any thread: the next frame encoded is a key frame (or the first after kMinKeyInterval).
   void request_key_frame() { key_wanted_ = true; }
 
   // Encoder thread: `image` (grey or BGR; made grey for a gray key) as the next access unit.
+  // `view_fps` is the rate the view's frames come at now (0: not known yet). The stream's
+  // SPS declares its frame rate (players time a raw stream by it), so a new encoder takes
+  // the view's rate, capped by the group's; when neither that nor an interval between two
+  // frames is known yet, the first frame only starts the clock and an empty access unit
+  // comes back (nothing to send).
   // Throws std::invalid_argument where the image cannot be H.264 (an odd size), or
   // std::runtime_error if the encoder fails.
-  video::AccessUnit encode(const cv::Mat& image, Clock::time_point arrival);
+  video::AccessUnit encode(const cv::Mat& image, Clock::time_point arrival, double view_fps = 0);
 
  private:
   const EncodingKey key_;
   std::atomic<bool> key_wanted_{true};
   std::mutex pace_mutex_;  // the render thread's: never waits for an encode
   Clock::time_point next_due_{};
-  std::mutex mutex_;  // the encoder's state (the pool runs one job per group at a time anyway)
+  mutable std::mutex mutex_;  // the encoder's state (the pool runs one job per group at a time anyway)
   std::unique_ptr<video::H264Encoder> encoder_;
   Clock::time_point last_key_{};
   Clock::time_point last_arrival_{};

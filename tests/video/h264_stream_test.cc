@@ -2,6 +2,7 @@
 // decoded by a real decoder (libavcodec): picture quality against the RAW frame of the
 // same view, clients joining mid-stream and stalling, the CLI's pipe into ffprobe, and the
 // errors of bad requests.
+#include <cstdio>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -350,9 +351,21 @@ TEST_F(H264Stream, TheClisPipeIsAnH264StreamThatFfprobeReads) {
   const auto r = run_process(std::string(OMNIVIEW_CLI) +
                              " stream front --encoding h264 --gray --frames 20 -o - --server " + daemon_->address() +
                              " 2>/dev/null | ffprobe -v error -count_frames -show_entries "
-                             "stream=codec_name,width,height,nb_read_frames -of csv=p=0 -");
+                             "stream=codec_name,width,height,r_frame_rate,nb_read_frames -of csv=p=0 -");
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("h264,640,480,20"), std::string::npos) << r.output;
+  // codec,width,height,rate,frames: players time a raw stream by the rate its SPS declares,
+  // which must be the rate frames come at (the source's 15 Hz, as the view measured it when
+  // the stream started: within 20 %), not the API's 60 Hz rate cap.
+  int width = 0, height = 0, frames = 0;
+  double rate_num = 0, rate_den = 1;
+  ASSERT_EQ(std::sscanf(r.output.c_str(), "h264,%d,%d,%lf/%lf,%d", &width, &height, &rate_num, &rate_den, &frames), 5)
+      << r.output;
+  EXPECT_EQ(width, 640);
+  EXPECT_EQ(height, 480);
+  EXPECT_EQ(frames, 20);
+  const double declared = rate_num / rate_den;
+  EXPECT_LE(declared, 18.0) << r.output;
+  EXPECT_GE(declared, 12.0 / test_time_scale()) << r.output;
 }
 
 TEST_F(H264Stream, TheClisFolderHoldsOnePlayableFile) {

@@ -66,13 +66,40 @@ TEST(VideoSubscriber, StartsAtAKeyFrameAndSkipsToTheNextAfterAMissedFrame) {
   EXPECT_TRUE((*got)->key_frame());
 }
 
+// The rate the view's frames come at, as LiveView's statistics measure it.
+constexpr double kViewFps = 15;
+
+// Players time a raw H.264 stream by the rate its SPS declares: the view's, capped by the
+// group's; for a view whose rate nobody measured yet, the first two frames' interval.
+TEST(VideoStream, TheStreamDeclaresTheRateFramesComeAt) {
+  const auto t0 = Clock::now();
+  {
+    VideoStream video(h264_key());  // the group's rate: 15 Hz
+    EXPECT_TRUE(video.encode(picture(0), t0, 10).key_frame);
+    EXPECT_DOUBLE_EQ(video.declared_fps(), 10);
+  }
+  {
+    VideoStream video(h264_key());
+    EXPECT_TRUE(video.encode(picture(0), t0, 30).key_frame);
+    EXPECT_DOUBLE_EQ(video.declared_fps(), 15) << "capped by the group's rate";
+  }
+  {
+    VideoStream video(h264_key());
+    EXPECT_TRUE(video.encode(picture(0), t0).data.empty()) << "no rate known yet: nothing to send";
+    EXPECT_EQ(video.declared_fps(), 0);
+    const auto second = video.encode(picture(1), t0 + 100ms);
+    EXPECT_TRUE(second.key_frame);
+    EXPECT_DOUBLE_EQ(video.declared_fps(), 10);
+  }
+}
+
 TEST(VideoStream, KeyFramesOnJoinOnAskAndNotMoreOftenThanTheBound) {
   auto video = std::make_shared<VideoStream>(h264_key());
   const auto t0 = Clock::now();
   int t = 0;
   const auto encode = [&] {
     const int i = t++;
-    return video->encode(picture(i), t0 + std::chrono::milliseconds(66 * i));
+    return video->encode(picture(i), t0 + std::chrono::milliseconds(66 * i), kViewFps);
   };
   EXPECT_TRUE(encode().key_frame);  // the first
   EXPECT_FALSE(encode().key_frame);
@@ -92,7 +119,7 @@ TEST(VideoStream, AClientThatMissedFramesAsksForAKeyFrameOnlyWhenItReadsAgain) {
   int t = 0;
   const auto encode = [&] {
     const int i = t++;
-    return video->encode(picture(i), t0 + std::chrono::milliseconds(66 * i));
+    return video->encode(picture(i), t0 + std::chrono::milliseconds(66 * i), kViewFps);
   };
   ASSERT_TRUE(encode().key_frame);  // the join's
   std::this_thread::sleep_for(VideoStream::kMinKeyInterval + 20ms);
@@ -117,13 +144,13 @@ TEST(VideoStream, KeepsTheGroupsPace) {
 TEST(VideoStream, AnOddSizeIsAClearErrorAndAResizeStartsWithAKeyFrame) {
   VideoStream video(h264_key());
   const auto now = Clock::now();
-  EXPECT_TRUE(video.encode(picture(0), now).key_frame);
-  EXPECT_FALSE(video.encode(picture(1), now + 66ms).key_frame);
+  EXPECT_TRUE(video.encode(picture(0), now, kViewFps).key_frame);
+  EXPECT_FALSE(video.encode(picture(1), now + 66ms, kViewFps).key_frame);
   cv::Mat bigger(60, 80, CV_8UC1, cv::Scalar(90));
-  EXPECT_TRUE(video.encode(bigger, now + 132ms).key_frame);
+  EXPECT_TRUE(video.encode(bigger, now + 132ms, kViewFps).key_frame);
   cv::Mat odd(60, 81, CV_8UC1, cv::Scalar(90));
   try {
-    video.encode(odd, now + 200ms);
+    video.encode(odd, now + 200ms, kViewFps);
     ADD_FAILURE() << "an odd size was encoded";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("81x60"), std::string::npos) << e.what();

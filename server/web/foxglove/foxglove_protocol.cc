@@ -215,9 +215,23 @@ void FoxgloveProtocol::start(uint32_t id, uint32_t channel_id) {
     return status(2, "no channel " + std::to_string(channel_id) + " (see the advertise message)");
   }
   if (subscriptions_.count(id)) return status(2, "subscription id " + std::to_string(id) + " is already in use");
-  if (static_cast<int>(subscriptions_.size()) >= context_.limits.max_streams_per_client) {
+  // The per-connection cap is on what costs an encode or a colouring (images, video,
+  // clouds); a view's calibration and the transforms ride along, so a client that subscribes
+  // to every topic (as Foxglove's panels do) still gets /tf and the calibrations. Those are
+  // bounded by the channels there are.
+  const auto costly = [](Kind k) { return k == Kind::kImage || k == Kind::kVideo || k == Kind::kCloud; };
+  size_t costly_count = 0;
+  for (const auto& entry : subscriptions_) {
+    const auto it = channels_.find(entry.second.channel);  // a channel gone since counts as costly
+    if (it == channels_.end() || costly(it->second.kind)) ++costly_count;
+  }
+  const size_t light_count = subscriptions_.size() - costly_count;
+  if (costly(ch->second.kind) && static_cast<int>(costly_count) >= context_.limits.max_streams_per_client) {
     return status(2, "at most " + std::to_string(context_.limits.max_streams_per_client) +
-                         " subscriptions per connection (limits.max_streams_per_client)");
+                         " image, video and cloud subscriptions per connection (limits.max_streams_per_client)");
+  }
+  if (!costly(ch->second.kind) && light_count >= channels_.size()) {
+    return status(2, "at most one subscription per calibration or transforms channel");
   }
   const Channel channel = ch->second;
   Subscription sub{channel_id, std::make_shared<std::atomic<bool>>(false), nullptr, nullptr};
