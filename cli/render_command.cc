@@ -79,7 +79,8 @@ void list_view_types() {
                "  equirectangular  radius, lat_min_deg, lat_max_deg, azimuth_span_deg\n"
                "  fisheye          radius, fov_deg (ideal equidistant fisheye)\n"
                "all: name, width, height, frame, pose: {xyz: [x, y, z], ypr_deg: [yaw, pitch, roll]},\n"
-               "     fusion (nearest | blend), feather_px\n";
+               "     fusion (nearest | blend), feather_px,\n"
+               "     ground: true (all but birdseye: the surface ends at the ground plane z = ground_z)\n";
 }
 
 // ---- options ----

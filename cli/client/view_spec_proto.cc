@@ -153,7 +153,8 @@ const char* settable_keys_help() {
   name, type (perspective|birdseye|cylindrical|mercator|equirectangular|fisheye), source,
   width, height, frame, position=X,Y,Z, ypr_deg=YAW,PITCH,ROLL, yaw_deg (pan), pitch_deg
   (tilt, positive looks down), roll_deg (roll), hfov_deg (hfov), distance, height_m,
-  ground_z, radius, vfov_deg (vfov), azimuth_span_deg, lat_min_deg, lat_max_deg,
+  ground_z, ground (true|false: the surface ends at the ground plane z = ground_z),
+  radius, vfov_deg (vfov), azimuth_span_deg, lat_min_deg, lat_max_deg,
   fov_deg (fov), fusion (blend, the default|nearest), feather_px, gain_compensation
   (true, the default|false: even out the cameras' exposures in a blend), overlay (true|false: draw the robot
   into a perspective or birdseye view), overlay_opacity (0..1)

@@ -34,7 +34,7 @@ bool FisheyeView::point_to_pixel(const Vec3& p, Vec2& uv) const {
   return in_image(uv);
 }
 
-void FisheyeView::row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+void FisheyeView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
   const float inv_f = static_cast<float>(1 / f_), cx = static_cast<float>(cx_);
   const float oy = static_cast<float>((v - cy_) / f_);
   const float max_theta2 = static_cast<float>(std::min(half_fov_, M_PI) * std::min(half_fov_, M_PI));

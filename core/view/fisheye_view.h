@@ -17,9 +17,9 @@ class FisheyeView : public View {
 
   bool pixel_to_direction(double u, double v, Vec3& dir) const override;
   bool point_to_pixel(const Vec3& point, Vec2& uv) const override;
-  void row_points(int v, float* x, float* y, float* z, uint8_t* valid) const override;
 
  protected:
+  void surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const override;
   double surface_range(const Vec3&) const override { return spec_.radius; }
 
  private:

@@ -72,7 +72,7 @@ double PanoramaView::surface_range(const Vec3& d) const {
   return spec_.radius;
 }
 
-void PanoramaView::row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+void PanoramaView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
   const double c = row_coordinate(v);
   const int w = width();
   const float r = static_cast<float>(spec_.radius);

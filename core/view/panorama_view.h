@@ -22,9 +22,9 @@ class PanoramaView : public View {
 
   bool pixel_to_direction(double u, double v, Vec3& dir) const override;
   bool point_to_pixel(const Vec3& point, Vec2& uv) const override;
-  void row_points(int v, float* x, float* y, float* z, uint8_t* valid) const override;
 
  protected:
+  void surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const override;
   double surface_range(const Vec3& unit_dir) const override;
 
  private:
@@ -34,7 +34,7 @@ class PanoramaView : public View {
 
   double span_;                  // azimuth span (rad)
   double top_, bottom_;          // row coordinate at the top and bottom image edges
-  std::vector<float> cos_az_, sin_az_;  // per column, for row_points
+  std::vector<float> cos_az_, sin_az_;  // per column, for surface_row_points
 };
 
 }  // namespace omniview

@@ -29,7 +29,7 @@ double PinholeView::surface_range(const Vec3& d) const {
   return descent > 1e-9 ? spec_.height_m / descent : -1;
 }
 
-void PinholeView::row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+void PinholeView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
   const float inv_f = static_cast<float>(1.0 / f_);
   const float dz = static_cast<float>(-(v - cy_) / f_);
   const float cx = static_cast<float>(cx_);

@@ -4,6 +4,12 @@
 // virtual camera's centre) and meets the surface once. pixel_to_point gives that surface
 // point; point_to_pixel takes any 3D point, surface or not, to the pixel whose ray passes
 // through it, which is what clients need to click and to draw overlays.
+//
+// `ground: true` cuts any surface with the ground plane (z = ground_z of the view's frame):
+// a ray that meets the ground before the plane, cylinder or sphere ends there, as in a
+// car's surround view bowl. Whatever lies on the ground then has no parallax between
+// cameras, so seams across the floor vanish and its texture stays sharp; the type's own
+// surface still catches what stands up from it.
 // Coordinates are in the view frame (x viewing direction, y left, z up) unless named.
 #pragma once
 
@@ -35,17 +41,25 @@ class View {
 
   // Surface points of one output row, in float, for the map builder. Invalid pixels get
   // valid[i] = 0 and unspecified coordinates.
-  virtual void row_points(int v, float* x, float* y, float* z, uint8_t* valid) const;
+  void row_points(int v, float* x, float* y, float* z, uint8_t* valid) const;
 
  protected:
-  explicit View(const ViewSpec& spec) : spec_(spec) {}
-  // Distance along the unit ray `dir` to the surface; <= 0 where it misses.
+  explicit View(const ViewSpec& spec);
+  // Distance along the unit ray `dir` to the type's own surface; <= 0 where it misses.
   virtual double surface_range(const Vec3& unit_dir) const = 0;
+  // row_points of the type's own surface, before the ground cut (default: per pixel).
+  virtual void surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const;
   bool in_image(const Vec2& uv) const {
     return uv.x() >= -0.5 && uv.y() >= -0.5 && uv.x() <= width() - 0.5 && uv.y() <= height() - 0.5;
   }
 
   ViewSpec spec_;
+
+ private:
+  // `ground: true`: a surface point below the ground plane moves up its ray onto the ground.
+  void cut_at_ground(float& x, float& y, float& z) const;
+  Vec3 down_;            // the parent frame's -z in the view frame
+  double height_ = 0;    // the view's origin above the ground plane (m)
 };
 
 }  // namespace omniview

@@ -13,11 +13,12 @@ const std::vector<std::string>& surface_keys() {
 
 const std::vector<std::string>& surface_keys(ViewType type) {
   // As view_to_yaml writes them and View::create reads them.
-  static const std::vector<std::string> perspective{"hfov_deg", "distance"};
+  // ground_z: every type's, the plane that `ground: true` cuts the surface with.
+  static const std::vector<std::string> perspective{"hfov_deg", "distance", "ground_z"};
   static const std::vector<std::string> birdseye{"hfov_deg", "height_m", "ground_z"};
-  static const std::vector<std::string> cylindrical{"radius", "vfov_deg", "azimuth_span_deg"};
-  static const std::vector<std::string> latitudes{"radius", "azimuth_span_deg", "lat_min_deg", "lat_max_deg"};
-  static const std::vector<std::string> fisheye{"radius", "fov_deg"};
+  static const std::vector<std::string> cylindrical{"radius", "vfov_deg", "azimuth_span_deg", "ground_z"};
+  static const std::vector<std::string> latitudes{"radius", "azimuth_span_deg", "lat_min_deg", "lat_max_deg", "ground_z"};
+  static const std::vector<std::string> fisheye{"radius", "fov_deg", "ground_z"};
   switch (type) {
     case ViewType::kPerspective: return perspective;
     case ViewType::kBirdseye: return birdseye;

@@ -112,6 +112,13 @@ void validate(const ViewSpec& s) {
   check(!s.overlay || s.type == ViewType::kPerspective || s.type == ViewType::kBirdseye, s, "overlay",
         "is for perspective and birdseye views only (the robot is drawn through a pinhole), not " +
             to_string(s.type) + " views");
+  check(within(s.ground_z, -kMaxViewLength_m, kMaxViewLength_m), s, "ground_z",
+        "must be within +-10000 m, got " + num(s.ground_z));
+  check(!s.ground || s.type != ViewType::kBirdseye, s, "ground",
+        "does not apply to birdseye views (their surface is the ground plane)");
+  check(!s.ground || s.position.z() > s.ground_z, s, "ground",
+        "needs the view above the ground plane: position.z " + num(s.position.z()) + " m is not above ground_z " +
+            num(s.ground_z) + " m");
   switch (s.type) {
     case ViewType::kPerspective:
       check(s.hfov_deg >= kMinFovDeg && s.hfov_deg < 180, s, "hfov_deg",
@@ -125,8 +132,6 @@ void validate(const ViewSpec& s) {
             "must be in [0.01, 180), got " + num(s.hfov_deg));
       check(s.height_m > 0 && s.height_m <= kMaxViewLength_m, s, "height",
             "must be in (0, 10000] m, got " + num(s.height_m));
-      check(within(s.ground_z, -kMaxViewLength_m, kMaxViewLength_m), s, "ground_z",
-            "must be within +-10000 m, got " + num(s.ground_z));
       break;
     case ViewType::kCylindrical:
       check(s.vfov_deg >= kMinFovDeg && s.vfov_deg < 180, s, "vfov_deg",

@@ -45,7 +45,11 @@ struct ViewSpec {
   double hfov_deg = 90;        // perspective, birdseye
   double distance = 5;         // perspective: plane distance (m)
   double height_m = 3;         // birdseye: virtual camera height above the ground plane (m)
-  double ground_z = 0;         // birdseye: ground plane z in `frame`
+  double ground_z = 0;         // birdseye, and views with `ground`: ground plane z in `frame`
+  // Every type but birdseye (whose surface is the ground): cut the surface with the ground
+  // plane, so rays that meet the ground first end there (view.h). For a robot's views posed
+  // in a frame whose z = 0 is the floor (Spot's `footprint`).
+  bool ground = false;
   double radius = 5;           // cylindrical, mercator, equirectangular, fisheye: surface radius (m)
   double vfov_deg = 90;        // cylindrical: vertical field of view of the central cylinder
   double azimuth_span_deg = 360;  // cylindrical, mercator, equirectangular

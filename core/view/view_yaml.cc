@@ -53,7 +53,7 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
   r.expect_keys(n, path, {"name", "type", "width", "height", "frame", "pose", "hfov_deg", "distance", "height_m",
                           "ground_z", "radius", "vfov_deg", "azimuth_span_deg", "lat_min_deg", "lat_max_deg",
                           "fov_deg", "fusion", "feather_px", "gain_compensation", "source", "overlay",
-                          "overlay_opacity"});
+                          "overlay_opacity", "ground"});
   const auto key = [&](const char* k) { return path.empty() ? std::string(k) : path + "." + k; };
   ViewSpec s = default_view_spec([&] {
     const YAML::Node t = r.required(n, "type", path);
@@ -92,6 +92,7 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
     if (n[k]) *field = r.number(n[k], key(k));
   }
   if (n["overlay"]) s.overlay = r.boolean(n["overlay"], key("overlay"));
+  if (n["ground"]) s.ground = r.boolean(n["ground"], key("ground"));
   if (n["gain_compensation"]) s.gain_compensation = r.boolean(n["gain_compensation"], key("gain_compensation"));
   if (n["fusion"]) {
     try {
@@ -182,6 +183,10 @@ YAML::Node view_to_yaml(const ViewSpec& s) {
       n["radius"] = number(s.radius);
       n["fov_deg"] = number(s.fov_deg);
       break;
+  }
+  if (s.ground) {
+    n["ground"] = true;
+    n["ground_z"] = number(s.ground_z);
   }
   n["fusion"] = to_string(s.fusion);
   n["feather_px"] = number(s.feather_px);

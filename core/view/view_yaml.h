@@ -3,7 +3,9 @@
 //   name, type, source, width, height, frame, pose: {xyz: [x, y, z], ypr_deg: [yaw, pitch, roll]},
 //   hfov_deg, distance, height_m, ground_z, radius, vfov_deg, azimuth_span_deg,
 //   lat_min_deg, lat_max_deg, fov_deg, fusion (nearest | blend), feather_px,
-//   gain_compensation (true | false; blend views: even out the cameras' exposures)
+//   gain_compensation (true | false; blend views: even out the cameras' exposures),
+//   ground (true | false; every type but birdseye: the surface ends at the ground plane z =
+//   ground_z, see view.h), overlay, overlay_opacity
 #pragma once
 
 #include <string>

@@ -106,6 +106,7 @@ v1::ViewSpec to_proto(const ViewSpec& s) {
   p.set_feather_px(s.feather_px);
   p.set_overlay(s.overlay);
   p.set_gain_compensation(s.gain_compensation);
+  p.set_ground(s.ground);
   p.set_overlay_opacity(s.overlay_opacity);
   return p;
 }
@@ -175,6 +176,7 @@ void apply_patch(const v1::ViewSpec& p, ViewSpec& s) {
   if (p.has_fusion()) s.fusion = from_proto(p.fusion(), what);
   if (p.has_overlay()) s.overlay = p.overlay();
   if (p.has_gain_compensation()) s.gain_compensation = p.gain_compensation();
+  if (p.has_ground()) s.ground = p.ground();
   reject_inapplicable_changes(p, before, s);
 }
 

@@ -65,5 +65,23 @@ TEST(ViewYaml, GainCompensationIsOnByDefaultAndCanBeTurnedOff) {
   expect_error("gain.yaml", "type: perspective\ngain_compensation: sometimes\n", {"gain.yaml:2: gain_compensation:"});
 }
 
+TEST(ViewYaml, GroundCutsAnySurfaceButTheBirdseyesAndIsWrittenBack) {
+  const auto views = parse_views(YamlReader::from_string(
+      "views:\n  - {name: f, type: perspective, ground: true, ground_z: -0.5}\n"
+      "  - {name: p, type: equirectangular, lat_min_deg: -40, lat_max_deg: 0, ground: true,"
+      " pose: {xyz: [0, 0, 0.5]}}\n",
+      "ground.yaml"));
+  ASSERT_EQ(views.size(), 2u);
+  EXPECT_TRUE(views[0].ground);
+  EXPECT_DOUBLE_EQ(views[0].ground_z, -0.5);
+  EXPECT_TRUE(views[1].ground);
+  const YAML::Node written = view_to_yaml(views[0]);
+  EXPECT_TRUE(written["ground"].as<bool>());
+  EXPECT_DOUBLE_EQ(written["ground_z"].as<double>(), -0.5);
+  EXPECT_FALSE(view_to_yaml(parse_views(YamlReader::from_string("type: perspective\n", "plain.yaml"))[0])["ground"]);
+  expect_error("birdseye.yaml", "type: birdseye\nground: true\n", {"birdseye.yaml:2: ground:", "birdseye"});
+  expect_error("below.yaml", "type: perspective\nground: true\nground_z: 2\n", {"below.yaml:", "above the ground plane"});
+}
+
 }  // namespace
 }  // namespace omniview
