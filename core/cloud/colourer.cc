@@ -1,5 +1,7 @@
 #include "core/cloud/colourer.h"
 
+#include "core/cloud/colourer_internal.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,25 +13,6 @@
 #include "core/map/usable_region.h"
 
 namespace omniview {
-
-struct CloudColourer::CameraSetup {
-  cv::Mat usable;   // CV_8UC1, 255 where the camera's image, mask and lens allow a pixel
-  cv::Mat feather;  // CV_32F blend weights, made on first use for `feather_px`
-  double feather_px = -1;
-  float cell_px = 1;  // depth buffer cell
-  double px_per_rad = 1;
-  float cx = 0, cy = 0, inv_half_diag2 = 1;
-  bool all_usable = false;  // no mask, no lens limit: every pixel of the image may colour
-};
-
-// One camera's projections of the current cloud and its depth buffer.
-struct CloudColourer::CameraPass {
-  bool active = false;
-  std::vector<float> u, v, range;
-  std::vector<uint8_t> valid;  // bit 1: the model images the point; bit 0: a usable pixel too
-  float inv_cell = 1, offset = 0;
-  cv::Mat depth, up, down, left, right, occluder;
-};
 
 namespace {
 
@@ -82,26 +65,6 @@ void project_camera(const CameraModel& camera_model, const Affine3f& T, const fl
   run(std::get_if<Eucm>(&camera_model));
 }
 
-// Bilinear sample at (u, v) inside [0, W-1] x [0, H-1]; R, G, B out.
-[[gnu::always_inline]] inline void sample(const cv::Mat& image, float u, float v, float rgb[3]) {
-  const int x0 = static_cast<int>(u), y0 = static_cast<int>(v);
-  const int x1 = std::min(x0 + 1, image.cols - 1), y1 = std::min(y0 + 1, image.rows - 1);
-  const float ax = u - x0, ay = v - y0;
-  const float w00 = (1 - ax) * (1 - ay), w01 = ax * (1 - ay), w10 = (1 - ax) * ay, w11 = ax * ay;
-  if (image.type() == CV_8UC1) {
-    const uint8_t* r0 = image.ptr<uint8_t>(y0);
-    const uint8_t* r1 = image.ptr<uint8_t>(y1);
-    const float g = w00 * r0[x0] + w01 * r0[x1] + w10 * r1[x0] + w11 * r1[x1];
-    rgb[0] = rgb[1] = rgb[2] = g;
-    return;
-  }
-  const cv::Vec3b* r0 = image.ptr<cv::Vec3b>(y0);
-  const cv::Vec3b* r1 = image.ptr<cv::Vec3b>(y1);
-  for (int k = 0; k < 3; ++k) {  // BGR in, RGB out
-    rgb[2 - k] = w00 * r0[x0][k] + w01 * r0[x1][k] + w10 * r1[x0][k] + w11 * r1[x1][k];
-  }
-}
-
 // The depth of a surface in front of each cell, from the cloud's own points splatted into
 // `depth` (nearest per cell): a cell is covered when nearer samples lie on both sides of it
 // within `reach` cells, vertically or horizontally (the gap between two of a lidar's rings
@@ -132,8 +95,6 @@ void occluding_depth(const cv::Mat& depth, int reach, cv::Mat& up, cv::Mat& down
   cv::min(up, left, out);
 }
 
-uint8_t to_byte(float v) { return static_cast<uint8_t>(std::clamp(v + 0.5f, 0.f, 255.f)); }
-
 }  // namespace
 
 CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) {
@@ -159,59 +120,6 @@ CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(ri
 }
 
 CloudColourer::~CloudColourer() = default;
-
-// Nearest-centre fusion of points [begin, end), camera by camera: each pass reads one
-// camera's arrays in order (a few streams instead of five cameras' at once), and the
-// per-point choice stays as in the point-by-point loop (cameras in rig order, strictly
-// better scores win), so the result is the same.
-void CloudColourer::nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
-                                   size_t begin, size_t end) const {
-  const size_t len = end - begin;
-  std::vector<float> best(len, std::numeric_limits<float>::max()), best_u(len), best_v(len);
-  std::vector<uint8_t> best_cam(len, kNoCamera), hidden(len, 0);
-  const float rel = 1.f + options.occlusion_tolerance_rel, abs_tol = options.occlusion_tolerance_m;
-  for (size_t c = 0; c < passes_.size(); ++c) {
-    const CameraPass& pass = passes_[c];
-    if (!pass.active) continue;
-    const CameraSetup& s = *cameras_[c];
-    const uint8_t* valid = pass.valid.data() + begin;
-    const float* u = pass.u.data() + begin;
-    const float* v = pass.v.data() + begin;
-    const float* range = pass.range.data() + begin;
-    for (size_t j = 0; j < len; ++j) {
-      if (!(valid[j] & 1)) continue;
-      if (options.occlusion) {
-        const float nearest = pass.occluder.ptr<float>(static_cast<int>(v[j] * pass.inv_cell + pass.offset))
-                                  [static_cast<int>(u[j] * pass.inv_cell + pass.offset)];
-        if (range[j] > nearest * rel + abs_tol) {
-          hidden[j] = 1;
-          continue;
-        }
-      }
-      const float du = u[j] - s.cx, dv = v[j] - s.cy;
-      const float score = (du * du + dv * dv) * s.inv_half_diag2;
-      if (score < best[j]) {
-        best[j] = score;
-        best_cam[j] = static_cast<uint8_t>(c);
-        best_u[j] = u[j];
-        best_v[j] = v[j];
-      }
-    }
-  }
-  for (size_t j = 0; j < len; ++j) {
-    uint8_t& flags = cloud.flags[begin + j];
-    if (flags & cloud_flags::kSelf) continue;
-    if (best_cam[j] == kNoCamera) {
-      if (hidden[j]) flags |= cloud_flags::kOccluded;
-      continue;
-    }
-    float rgb[3];
-    sample(input.images[best_cam[j]], best_u[j], best_v[j], rgb);
-    cloud.rgb[begin + j] = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
-    cloud.camera[begin + j] = best_cam[j];
-    flags |= cloud_flags::kColoured;
-  }
-}
 
 ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
                                   const Trajectory* motion) {
@@ -330,12 +238,15 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
       uint8_t* valid = pass.valid.data();
       const float* u = pass.u.data();
       const float* v = pass.v.data();
+      pass.seen.clear();
+      pass.seen.reserve(n);
       for (size_t i = 0; i < n; ++i) {
         if (!valid[i]) continue;
         if (!s.all_usable && (valid[i] & 1) &&
             s.usable.at<uint8_t>(static_cast<int>(v[i] + 0.5f), static_cast<int>(u[i] + 0.5f)) == 0) {
           valid[i] &= 2;  // masked out or past the lens' field: no colour, but still a surface
         }
+        if (valid[i] & 1) pass.seen.push_back(static_cast<uint32_t>(i));
         if (options.occlusion) {
           const float cx = u[i] * pass.inv_cell + pass.offset, cy = v[i] * pass.inv_cell + pass.offset;
           if (cx >= 0.f && cy >= 0.f && cx < cols && cy < rows) {
@@ -384,7 +295,7 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
           const float w = s.feather.at<float>(static_cast<int>(v + 0.5f), static_cast<int>(u + 0.5f));
           if (w <= 0) continue;
           float rgb[3];
-          sample(input.images[c], u, v, rgb);
+          cloud_internal::sample(input.images[c], u, v, rgb);
           sum_w += w;
           for (int k = 0; k < 3; ++k) sum[k] += w * rgb[k];
           if (-w < best) {  // blending: `best` holds minus the heaviest weight
@@ -410,9 +321,9 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
       if (blend) {
         for (int k = 0; k < 3; ++k) rgb[k] = sum[k] / sum_w;
       } else {
-        sample(input.images[best_cam], best_u, best_v, rgb);
+        cloud_internal::sample(input.images[best_cam], best_u, best_v, rgb);
       }
-      cloud.rgb[i] = {to_byte(rgb[0]), to_byte(rgb[1]), to_byte(rgb[2])};
+      cloud.rgb[i] = {cloud_internal::to_byte(rgb[0]), cloud_internal::to_byte(rgb[1]), cloud_internal::to_byte(rgb[2])};
       cloud.camera[i] = best_cam;
       flags |= cloud_flags::kColoured;
     }

@@ -103,8 +103,9 @@ void Pipeline::update_wanted_cameras(const std::string& source) {
     const auto sampling = camera_sampling(*state->map);
     for (size_t i = 0; i < spacing.size() && i < sampling.size(); ++i) take_finest(i, sampling[i]);
   }
-  // A cloud is coloured from every camera, at full resolution.
-  const bool cloud_wanted = clouds(source).subscriber_count() > 0;
+  // A cloud is coloured from every camera, at full resolution; a recording keeps the
+  // source's clouds too, watched or not.
+  const bool cloud_wanted = clouds(source).subscriber_count() > 0 || ch->tap_count() > 0;
   if (cloud_wanted) {
     for (size_t i = 0; i < wanted.size(); ++i) {
       wanted[i] = true;
