@@ -24,17 +24,6 @@ std::array<uint16_t, 16> vlp16_rings(const Vlp16Calibration& calibration) {
   return rings;
 }
 
-std::chrono::system_clock::time_point vlp16_packet_time(uint32_t us_past_hour, std::chrono::system_clock::time_point received) {
-  using namespace std::chrono;
-  const auto hour = floor<hours>(received);
-  auto t = hour + microseconds(us_past_hour);
-  // Nearest of this hour, the one before and the one after.
-  for (const auto candidate : {t - hours(1), t + hours(1)}) {
-    if (abs(duration_cast<microseconds>(candidate - received)) < abs(duration_cast<microseconds>(t - received))) t = candidate;
-  }
-  return time_point_cast<system_clock::duration>(t);
-}
-
 Vlp16Assembler::Vlp16Assembler(const Vlp16Calibration& calibration, std::string frame, Vlp16Returns returns)
     : calibration_(calibration), rings_(vlp16_rings(calibration)), frame_(std::move(frame)), returns_(returns) {
   for (int i = 0; i < 16; ++i) {
@@ -84,7 +73,10 @@ std::vector<PointCloud> Vlp16Assembler::add_packet(const uint8_t* data, size_t s
   }
   const bool dual = mode == 0x39;
   const uint32_t us = static_cast<uint32_t>(data[1200] | (data[1201] << 8) | (data[1202] << 16) | (uint32_t{data[1203]} << 24));
+  // Times within a rotation come from the lidar's own clock, whose differences are exact;
+  // only the rotation's stamp is moved onto ours (lidar_clock.h).
   const auto packet_time = vlp16_packet_time(us, received);
+  const auto correction = clock_.to_local(us, received) - packet_time;
   ++packets_;
 
   std::vector<PointCloud> done;
@@ -134,12 +126,13 @@ std::vector<PointCloud> Vlp16Assembler::add_packet(const uint8_t* data, size_t s
         if (r < calibration_.min_range_m || r > calibration_.max_range_m) continue;
         const double t_us = firing * 2 * kSequenceUs + seq * kSequenceUs + laser * kLaserGapUs;
         if (!have_current_) {
-          current_.stamp = packet_time + std::chrono::duration_cast<std::chrono::system_clock::duration>(
-                                             std::chrono::duration<double, std::micro>(t_us));
+          lidar_stamp_ = packet_time + std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                                           std::chrono::duration<double, std::micro>(t_us));
+          current_.stamp = lidar_stamp_ + correction;
           have_current_ = true;
         }
         if (!have_offset) {
-          packet_offset_s = std::chrono::duration<double>(packet_time - current_.stamp).count();
+          packet_offset_s = std::chrono::duration<double>(packet_time - lidar_stamp_).count();
           have_offset = true;
         }
         const double xy = r * cos_el_[laser];

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cloud/lidar_clock.h"
 #include "core/cloud/point_cloud.h"
 
 namespace omniview {
@@ -43,8 +44,8 @@ class Vlp16Assembler {
  public:
   Vlp16Assembler(const Vlp16Calibration& calibration, std::string frame, Vlp16Returns returns = Vlp16Returns::kAll);
 
-  // Decodes one data packet. `received`: when it arrived (its hour completes the packet's
-  // microseconds-past-the-hour). Returns the rotations that this packet completed (the
+  // Decodes one data packet. `received`: when it arrived, on the daemon's clock (the
+  // packet's own time is mapped onto it, lidar_clock.h). Returns the rotations that this packet completed (the
   // azimuth wrapped), each with per-point times after its stamp (its first point).
   // Throws CloudFormatError naming `source` and what is wrong (size, block flag, azimuth,
   // return mode); the assembler's state is unchanged then.
@@ -52,6 +53,8 @@ class Vlp16Assembler {
                                      const std::string& source = "VLP-16 packet");
 
   size_t packets() const { return packets_; }
+  // How the packets' own times map onto the daemon's clock (lidar_clock.h).
+  const LidarClock& clock() const { return clock_; }
 
  private:
   void start_rotation();
@@ -62,12 +65,11 @@ class Vlp16Assembler {
   Vlp16Returns returns_;
   PointCloud current_;
   bool have_current_ = false;
+  std::chrono::system_clock::time_point lidar_stamp_;  // current_'s stamp by the lidar's clock
   double last_azimuth_ = -1;
   size_t packets_ = 0;
+  LidarClock clock_;
 };
 
-// Packet timestamps: microseconds past the hour placed in the hour that makes them nearest
-// to `received` (a packet may arrive just after the hour turned).
-std::chrono::system_clock::time_point vlp16_packet_time(uint32_t us_past_hour, std::chrono::system_clock::time_point received);
 
 }  // namespace omniview

@@ -52,6 +52,61 @@ TEST(Vlp16, PacketTimeTakesTheNearestHour) {
   EXPECT_EQ(vlp16_packet_time(1000u, hour + milliseconds(2)), hour + milliseconds(1));
 }
 
+// Packets sent every 1.33 ms whose stamps are the sender's clock, `lidar_behind` behind
+// ours, arriving 0.2-2.2 ms after they were sent.
+struct SentPacket {
+  uint32_t us_past_hour;
+  Clock::time_point sent, received;
+};
+std::vector<SentPacket> packets_from(Clock::time_point start, Clock::duration lidar_behind, int count) {
+  using namespace std::chrono;
+  std::vector<SentPacket> out;
+  for (int k = 0; k < count; ++k) {
+    const auto sent = start + microseconds(1330 * k);
+    const auto lidar = sent - lidar_behind;
+    const auto us = duration_cast<microseconds>(lidar - floor<hours>(lidar)).count();
+    out.push_back({static_cast<uint32_t>(us), sent, sent + microseconds(200 + (k * 7919) % 2000)});
+  }
+  return out;
+}
+
+TEST(LidarClock, ASynchronisedLidarKeepsItsOwnTimes) {
+  using namespace std::chrono;
+  LidarClock clock;
+  for (const auto& p : packets_from(Clock::now(), microseconds(0), 2000)) {
+    const auto t = clock.to_local(p.us_past_hour, p.received);
+    ASSERT_LT(abs(duration_cast<microseconds>(t - p.sent)).count(), 1) << "the lidar's time, not the arrival";
+  }
+  EXPECT_TRUE(clock.synchronised());
+  EXPECT_EQ(clock.correction(), Clock::duration(0));
+}
+
+TEST(LidarClock, AFreeRunningLidarIsMovedOntoOurClock) {
+  using namespace std::chrono;
+  // Without GPS a VLP-16 counts from power-on: 17 min 3.25 s behind here. Its stamps would
+  // be minutes from every camera image; moved, they are within the fastest packet's
+  // latency of when the packets left, also across the lidar's hour and after a restart.
+  LidarClock clock;
+  const auto start = floor<hours>(Clock::now()) + minutes(17) + seconds(1);  // the lidar's hour turns
+  const auto behind = minutes(17) + milliseconds(3250);
+  int k = 0;
+  for (const auto& p : packets_from(start, behind, 3000)) {
+    const auto t = clock.to_local(p.us_past_hour, p.received);
+    if (++k > 10) ASSERT_LT(abs(duration_cast<microseconds>(t - p.sent)).count(), 300) << "packet " << k;
+  }
+  EXPECT_FALSE(clock.synchronised());
+  EXPECT_NEAR(duration<double>(clock.correction()).count(), duration<double>(behind).count(), 0.001);
+  // The lidar restarts: its clock is now 2 s behind ours; within two windows all is well.
+  k = 0;
+  for (const auto& p : packets_from(start + seconds(10), seconds(2), 3000)) {
+    const auto t = clock.to_local(p.us_past_hour, p.received);
+    if (p.sent > start + seconds(10) + 2 * LidarClock::kWindow) {
+      ASSERT_LT(abs(duration_cast<microseconds>(t - p.sent)).count(), 300) << "packet " << k;
+    }
+    ++k;
+  }
+}
+
 TEST(Vlp16, RotationsFromTheSyntheticSceneOverLoopbackUdp) {
   const auto scene = test::textured_room();
   const Pose T_world_lidar = make_pose(Vec3(0.3, -0.2, 0.85), 0.4, 0, 0);

@@ -1,6 +1,7 @@
 #include "server/sources/velodyne/velodyne_source.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <iostream>
 
 namespace omniview {
@@ -155,6 +156,10 @@ void VelodyneSource::receive_loop() {
       ++bad_packets_;
       last_problem_ = problem;
     }
+    if (assembler && assembler->packets() > 0) {
+      lidar_clock_synchronised_ = assembler->clock().synchronised();
+      lidar_clock_correction_s_ = std::chrono::duration<double>(assembler->clock().correction()).count();
+    }
     for (auto& cloud : done) {
       if (!settings_.point_time) cloud.time.clear();
       ++rotations_;
@@ -170,6 +175,13 @@ SourceHealth VelodyneSource::health() const {
   if (!listen_problem_.empty()) {
     const std::string lidar = "lidar: " + listen_problem_ + " (retrying)";
     h.message = h.message.empty() ? lidar : h.message + "; " + lidar;
+  }
+  if (rotations_ > 0 && !lidar_clock_synchronised_) {
+    // Not an error: most lidars run without GPS. Said so that nobody trusts their stamps.
+    char text[128];
+    std::snprintf(text, sizeof text, "lidar clock free-running (no GPS/PTP): its times moved %+.3f s onto ours",
+                  lidar_clock_correction_s_);
+    h.message = h.message.empty() ? text : h.message + "; " + text;
   }
   if (bad_packets_ > 0) {
     const std::string lidar = "lidar: " + std::to_string(bad_packets_) + " of " + std::to_string(packets_) +

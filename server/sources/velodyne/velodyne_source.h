@@ -74,6 +74,8 @@ class VelodyneSource : public Source {
   std::shared_ptr<const PointCloud> pending_;  // the newest rotation no frame set carried yet
   uint64_t packets_ = 0, bad_packets_ = 0, rotations_ = 0;
   std::string last_problem_;
+  bool lidar_clock_synchronised_ = true;  // the lidar's own packet times agree with ours
+  double lidar_clock_correction_s_ = 0;   // how far they are moved when they do not
   std::string listen_problem_;  // why the socket cannot be bound (yet); empty once it is
 };
 
