@@ -19,6 +19,7 @@ packages=(
   libboost-dev  # Boost.Beast and Asio (header-only): omniviewd's HTTP + WebSocket endpoint (server/web)
   libjs-three   # three.js, served to the console's 3D cloud panel from /usr/share/javascript
   python3-websockets python3-selenium python3-yaml chromium chromium-driver  # tests/web
+  xvfb xdotool  # omniview show's window, keys and mouse, tested on a virtual X display
   dpkg-dev systemd  # cpack -G DEB (dpkg-shlibdeps) and systemd-analyze verify: scripts/check-install.sh
 )
 

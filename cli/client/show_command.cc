@@ -1,7 +1,8 @@
-// `omniview show VIEW`: a live window of a view (OpenCV HighGUI) with keyboard pan, tilt
-// and zoom, for an operator's laptop. Without a display it says so and names the pipe.
+// `omniview show VIEW`: a live window of a view (OpenCV HighGUI) with keyboard and mouse
+// pan, tilt and zoom, for an operator's laptop. Without a display it says so and names the pipe.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 
@@ -20,10 +21,13 @@ namespace {
 
 const std::string kShowHelp = std::string(R"(usage: omniview show VIEW [--step DEG] [--rate HZ] [--gray] [--quality Q]
 
-Opens a window showing a view live. Keys (changing the view needs an operator token):
+Opens a window showing a view live. Keys and mouse (changing the view needs an operator
+token):
   a / d, left / right   pan left / right by --step degrees (default 5)
   w / s, up / down      tilt up / down
   + / -                 zoom in / out (x1.25)
+  drag                  pan and tilt: the picture follows the mouse
+  wheel                 zoom in / out (x1.25 a notch)
   q, Esc                quit (so does closing the window)
 
 Needs a display (DISPLAY or WAYLAND_DISPLAY); over ssh use 'ssh -X', or pipe the view into
@@ -52,6 +56,56 @@ bool delta_for_key(int key, double step, v1::ViewDelta& delta) {
     case '-': case '_': delta.set_zoom(1 / 1.25); return true;
     default: return false;
   }
+}
+
+// Drags and wheel notches since the view was last updated, from HighGUI's mouse callback
+// (called on the same thread, inside waitKey).
+struct MouseSteering {
+  bool dragging = false;
+  cv::Point last;
+  double dx_px = 0, dy_px = 0;  // picture moved right / down
+  int wheel_notches = 0;        // away from the user: zoom in
+
+  static void on_event(int event, int x, int y, int flags, void* self) {
+    auto& m = *static_cast<MouseSteering*>(self);
+    if (event == cv::EVENT_LBUTTONDOWN) {
+      m.dragging = true;
+      m.last = {x, y};
+    } else if (event == cv::EVENT_LBUTTONUP) {
+      m.dragging = false;
+    } else if (event == cv::EVENT_MOUSEMOVE && m.dragging && (flags & cv::EVENT_FLAG_LBUTTON)) {
+      m.dx_px += x - m.last.x;
+      m.dy_px += y - m.last.y;
+      m.last = {x, y};
+    } else if (event == cv::EVENT_MOUSEWHEEL) {
+      m.wheel_notches += cv::getMouseWheelDelta(flags) > 0 ? 1 : -1;
+    }
+  }
+
+  // The change the mouse asks for, `deg_per_px` degrees per pixel dragged; false if none.
+  bool take(double deg_per_px, v1::ViewDelta& delta) {
+    if (dx_px == 0 && dy_px == 0 && wheel_notches == 0) return false;
+    // Dragging the picture right brings in what lies to the left (yaw is positive to the
+    // left); dragging it down brings in what lies above (positive pitch looks down).
+    delta.set_yaw_deg(dx_px * deg_per_px);
+    delta.set_pitch_deg(-dy_px * deg_per_px);
+    if (wheel_notches != 0) delta.set_zoom(std::pow(1.25, wheel_notches));
+    dx_px = dy_px = 0;
+    wheel_notches = 0;
+    return true;
+  }
+};
+
+// Degrees per pixel across the frame as rendered: a pinhole view's hfov over its width;
+// a panorama's azimuth span; otherwise a tenth of a degree.
+double degrees_per_pixel(const v1::Frame& frame) {
+  const auto& spec = frame.camera().spec();
+  if (frame.width() <= 0) return 0.1;
+  if (spec.type() == v1::PERSPECTIVE && spec.hfov_deg() > 0) return spec.hfov_deg() / frame.width();
+  if (spec.azimuth_span_deg() > 0 && spec.type() != v1::FISHEYE && spec.type() != v1::BIRDSEYE) {
+    return spec.azimuth_span_deg() / frame.width();
+  }
+  return 0.1;
 }
 
 // A red band across the top with the reason: the picture is the last one the source gave.
@@ -90,7 +144,8 @@ int show_command(const std::vector<std::string>& argv) {
   }
   const std::string title = "omniview: " + request.view();
   try {
-    cv::namedWindow(title, cv::WINDOW_AUTOSIZE);
+    // GUI_NORMAL: no toolbar, and Qt's own zoom does not take the wheel from us.
+    cv::namedWindow(title, cv::WINDOW_AUTOSIZE | cv::WINDOW_GUI_NORMAL);
   } catch (const cv::Exception& e) {
     throw std::runtime_error("cannot open a window: " + std::string(e.what()));
   }
@@ -103,6 +158,8 @@ int show_command(const std::vector<std::string>& argv) {
   v1::Frame frame;
   uint64_t frames = 0;
   StaleNotice stale(request.view());
+  MouseSteering mouse;
+  cv::setMouseCallback(title, &MouseSteering::on_event, &mouse);
   while (reader->Read(&frame)) {
     if (frames++ == 0) print_stream_note(context);
     const std::string& data = frame.data();
@@ -117,7 +174,8 @@ int show_command(const std::vector<std::string>& argv) {
     }
     v1::UpdateViewRequest update;
     update.set_name(request.view());
-    if (delta_for_key(key, step, *update.mutable_delta())) {
+    // One update per frame shown at most: the mouse's moves since the last one add up.
+    if (delta_for_key(key, step, *update.mutable_delta()) || mouse.take(degrees_per_pixel(frame), *update.mutable_delta())) {
       v1::View view;
       grpc::ClientContext update_context;
       connection.prepare(update_context, true);

@@ -118,7 +118,8 @@ void validate(const ViewSpec& s) {
         "does not apply to birdseye views (their surface is the ground plane)");
   check(!s.ground || s.position.z() > s.ground_z, s, "ground",
         "needs the view above the ground plane: position.z " + num(s.position.z()) + " m is not above ground_z " +
-            num(s.ground_z) + " m");
+            num(s.ground_z) + " m (pose the view in a frame whose z = 0 is the floor, such as Spot's footprint, "
+            "or set ground_z to the floor's z in '" + (s.frame.empty() ? std::string("the rig's frame") : s.frame) + "')");
   switch (s.type) {
     case ViewType::kPerspective:
       check(s.hfov_deg >= kMinFovDeg && s.hfov_deg < 180, s, "hfov_deg",

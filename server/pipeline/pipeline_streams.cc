@@ -97,9 +97,13 @@ void Pipeline::update_wanted_cameras(const std::string& source) {
   for (const auto& v : views) {
     const auto state = v->state();
     if (state->spec.source != source || v->subscriber_count() == 0) continue;
+    bool sees_any = false;
     for (size_t i = 0; i < wanted.size() && i < state->map->camera_used.size(); ++i) {
-      if (state->map->camera_used[i]) wanted[i] = true;
+      if (state->map->camera_used[i]) wanted[i] = sees_any = true;
     }
+    // A view no camera sees still gets its (black) frames, each saying coverage 0, at the
+    // source's pace: image sets must keep coming, so one camera is asked for.
+    if (!sees_any && !wanted.empty()) wanted[0] = true;
     const auto sampling = camera_sampling(*state->map);
     for (size_t i = 0; i < spacing.size() && i < sampling.size(); ++i) take_finest(i, sampling[i]);
   }

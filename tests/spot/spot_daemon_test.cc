@@ -346,6 +346,16 @@ TEST(SpotSource, PullsOnlyTheCamerasWatchedViewsNeed) {
     const auto it = counters.find(std::string("image_requests.") + unwatched);
     EXPECT_TRUE(it == counters.end() || it->second == 0) << unwatched << " was pulled";
   }
+  // A view of the sky, which no camera sees, still gets its black frames saying coverage 0
+  // (one camera is pulled so that image sets keep coming), not "not delivering images".
+  spec->set_name("sky");
+  spec->set_yaw_deg(0);
+  spec->set_pitch_deg(-60);
+  ASSERT_TRUE(stub->CreateView(make_context().get(), create, &created).ok());
+  v1::Frame sky;
+  const grpc::Status shot = snapshot(*stub, "sky", sky);
+  ASSERT_TRUE(shot.ok()) << shot.error_message();
+  EXPECT_EQ(sky.coverage(), 0);
   // Nobody watches any more: the pulling stops.
   std::this_thread::sleep_for(500ms);
   const double calls = mock_control(mock, "--counters").at("get_image_calls");
