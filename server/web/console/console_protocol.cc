@@ -17,10 +17,10 @@ constexpr int kMaxCallsInFlight = 4;  // per client: a joystick waits for its re
 constexpr auto kAuthTimeout = std::chrono::seconds(10);  // a connection that never authenticates is closed
 
 // What a subscription that ended on its own (its view deleted, the daemon stopping) tells
-// the client; Stream keeps it from an unsubscribe.
-template <class Subscriber>
-std::function<void(const Subscriber&)> ended_notice(std::weak_ptr<Connection> connection, uint32_t channel) {
-  return [connection = std::move(connection), channel](const Subscriber& subscriber) {
+// the client (Stream silences it for an unsubscribe).
+template <class AnySubscriber>
+std::function<void(const AnySubscriber&)> ended_notice(std::weak_ptr<Connection> connection, uint32_t channel) {
+  return [connection = std::move(connection), channel](const AnySubscriber& subscriber) {
     if (const auto c = connection.lock()) {
       c->send_text("{\"op\":\"ended\",\"channel\":" + std::to_string(channel) + ",\"error\":{\"code\":" +
                    json::quote(code_name(subscriber.close_code())) +
@@ -247,21 +247,14 @@ void ConsoleProtocol::unsubscribe(const json::Value& message, std::optional<int6
   if (!channels_.count(static_cast<uint32_t>(*channel))) {
     return fail(id, grpc::StatusCode::NOT_FOUND, "no channel " + std::to_string(*channel) + " on this connection");
   }
-  stop(static_cast<uint32_t>(*channel));
+  channels_.erase(static_cast<uint32_t>(*channel));  // Stream's end stops its pump and leaves the pipeline
   reply(id, "{}");
-}
-
-void ConsoleProtocol::stop(uint32_t channel) {
-  const auto it = channels_.find(channel);
-  if (it == channels_.end()) return;
-  it->second.stop();
-  channels_.erase(it);
 }
 
 void ConsoleProtocol::on_close() {
   if (closed_) return;
   closed_ = true;
-  while (!channels_.empty()) stop(channels_.begin()->first);
+  channels_.clear();
 }
 
 }  // namespace omniview::web

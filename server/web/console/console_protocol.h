@@ -38,7 +38,6 @@ class ConsoleProtocol : public Protocol {
   void subscribe_cloud(const json::Value& message, std::optional<int64_t> id);
   bool check_stream_limit(std::optional<int64_t> id);
   void unsubscribe(const json::Value& message, std::optional<int64_t> id);
-  void stop(uint32_t channel);
 
   void reply(std::optional<int64_t> id, const std::string& response_json);
   void fail(std::optional<int64_t> id, grpc::StatusCode code, const std::string& message);

@@ -94,11 +94,7 @@ void FoxgloveProtocol::advertise() {
       ++it;
       continue;
     }
-    std::vector<uint32_t> ended;
-    for (const auto& [id, sub] : subscriptions_) {
-      if (sub.channel == it->first) ended.push_back(id);
-    }
-    for (const uint32_t id : ended) stop(id);
+    std::erase_if(subscriptions_, [&](const auto& entry) { return entry.second.channel == it->first; });
     gone += (gone.empty() ? "" : ",") + std::to_string(it->first);
     it = channels_.erase(it);
   }
@@ -169,7 +165,7 @@ void FoxgloveProtocol::unsubscribe(const json::Value& message) {
       status(1, "no subscription " + std::to_string(id));
       continue;
     }
-    stop(id);
+    subscriptions_.erase(id);  // Stream's end stops its pump and leaves the pipeline
   }
 }
 
@@ -229,17 +225,10 @@ void FoxgloveProtocol::start(uint32_t id, uint32_t channel_id) {
   subscriptions_.try_emplace(id, channel_id, connection_, id, std::move(source), std::move(release));
 }
 
-void FoxgloveProtocol::stop(uint32_t id) {
-  const auto it = subscriptions_.find(id);
-  if (it == subscriptions_.end()) return;
-  it->second.stream.stop();
-  subscriptions_.erase(it);
-}
-
 void FoxgloveProtocol::on_close() {
   if (closed_) return;
   closed_ = true;
-  while (!subscriptions_.empty()) stop(subscriptions_.begin()->first);
+  subscriptions_.clear();
 }
 
 }  // namespace omniview::web

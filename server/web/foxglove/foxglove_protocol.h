@@ -56,7 +56,6 @@ class FoxgloveProtocol : public Protocol {
   void subscribe(const json::Value& message);
   void unsubscribe(const json::Value& message);
   void start(uint32_t subscription, uint32_t channel_id);
-  void stop(uint32_t subscription);
   // A status message (level 0 info, 1 warning, 2 error), as the protocol reports problems.
   void status(int level, const std::string& message);
   void send(std::string text);

@@ -24,9 +24,9 @@ Pump::Source transforms_source(uint32_t subscription, Pipeline& pipeline);
 
 // The error status a subscription that ended on its own (its view deleted, the daemon
 // stopping) sends: "<topic>: <why>".
-template <class Subscriber>
-std::function<void(const Subscriber&)> ended_status(std::weak_ptr<Connection> connection, std::string topic) {
-  return [connection = std::move(connection), topic = std::move(topic)](const Subscriber& subscriber) {
+template <class AnySubscriber>
+std::function<void(const AnySubscriber&)> ended_status(std::weak_ptr<Connection> connection, std::string topic) {
+  return [connection = std::move(connection), topic = std::move(topic)](const AnySubscriber& subscriber) {
     if (const auto c = connection.lock()) {
       c->send_text("{\"op\":\"status\",\"level\":2,\"message\":" + json::quote(topic + ": " + subscriber.close_reason()) +
                    "}");

@@ -17,9 +17,9 @@ namespace omniview::web {
 // A Pump::Source over a pipeline subscriber: a view's Subscriber or a CloudSubscriber, which
 // share take(), count_sent() and close(). `to_message` makes each item's message; `ended`
 // runs when the subscriber closed on its own (Stream drops it after stop()).
-template <class Subscriber, class ToMessage>
-Pump::Source subscriber_source(std::shared_ptr<Subscriber> subscriber, ToMessage to_message,
-                               std::function<void(const Subscriber&)> ended) {
+template <class AnySubscriber, class ToMessage>
+Pump::Source subscriber_source(std::shared_ptr<AnySubscriber> subscriber, ToMessage to_message,
+                               std::function<void(const AnySubscriber&)> ended) {
   Pump::Source source;
   source.take = [subscriber, to_message = std::move(to_message)](std::chrono::milliseconds timeout) {
     Pump::Item item;
