@@ -17,6 +17,7 @@ packages=(
   libgstrtspserver-1.0-dev libgstreamer-plugins-base1.0-dev  # RTSP (server/rtsp): the server library, appsrc
   gstreamer1.0-plugins-good gstreamer1.0-plugins-bad         # ... rtph264pay, h264parse
   libboost-dev  # Boost.Beast and Asio (header-only): omniviewd's HTTP + WebSocket endpoint (server/web)
+  nlohmann-json3-dev  # the web endpoint's client JSON (server/web/json)
   libjs-three   # three.js, served to the console's 3D cloud panel from /usr/share/javascript
   python3-websockets python3-selenium python3-yaml chromium chromium-driver  # tests/web
   xvfb xdotool  # omniview show's window, keys and mouse, tested on a virtual X display

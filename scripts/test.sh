@@ -35,12 +35,6 @@ timing_bound="Recording.AClientFarBehindSkipsAndSaysHowMany"
 # over JPEG is timed; a sequence gap is taken for a frame the client missed, where under a
 # sanitizer's slowdown the pipeline itself skips renders).
 timing_bound+="|H264Stream.AddsLessThanAFrameIntervalOfLatencyOverJpeg|H264Stream.AStalledClientResumesAtAKeyFrame"
-# The web endpoint's tests (label web) cannot run under ThreadSanitizer: protobuf's headers
-# give MapFieldBase two extra members when __SANITIZE_THREAD__ is set (map_field.h), while
-# google.protobuf.Struct, whose map the endpoint's JSON goes through, is compiled into
-# Debian's uninstrumented libprotobuf: any TSan-built code reading a Struct's fields crashes.
-# They run in the release and ASan trees; moving the endpoint's JSON off Struct lifts this.
-not_under_tsan="web"
 # Found this stop under ThreadSanitizer and not yet resolved (each runs in the release and
 # ASan trees): the cloud time-sync test's synthetic lidar scan runs on OpenCV's TBB workers,
 # whose hand-offs TSan cannot see; RTSPS's handshake races inside Debian's uninstrumented
@@ -72,4 +66,4 @@ server_test_count() { ctest --test-dir "$1" -N -L server | sed -n 's/^Total Test
 seed_test_costs build-tsan
 stage "tsan: tests" env OMNIVIEW_THREADS=1 OMNIVIEW_TEST_TIME_SCALE=3 \
   TSAN_OPTIONS="suppressions=$PWD/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
-  ctest --test-dir build-tsan -L server -LE "$not_under_tsan" --output-on-failure -j "$jobs" -E "$timing_bound|$not_threaded|$tsan_pending"
+  ctest --test-dir build-tsan -L server --output-on-failure -j "$jobs" -E "$timing_bound|$not_threaded|$tsan_pending"

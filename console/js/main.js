@@ -127,23 +127,34 @@ async function loadViews() {
   if (chosen && spec(chosen)) select.value = chosen;
 }
 
+// A span of the status line; `unit` ones never break inside (a figure and its unit).
+function statusSpan(className, ...children) {
+  const span = document.createElement('span');
+  span.className = className;
+  span.append(...children);
+  return span;
+}
+
 function showStatus(st) {
   app.status = st;
   const el = $('status');
   const src = (st.sources || [])[0];
   const parts = [];
   // Text nodes only: view and source names come from the daemon (any operator can name a view).
+  // One segment for the source and one per pane: on a phone the line wraps between them,
+  // and inside one only between figures, so none is cut off.
   if (src) {
     el.dataset.connected = String(!!src.connected);
     el.dataset.sourceRate = String(src.rateHz || 0);
-    const dot = document.createElement('span');
-    dot.className = 'dot' + (src.connected ? ' on' : '');
-    parts.push(dot, `${src.name} ${(src.rateHz || 0).toFixed(1)} Hz`);
+    const dot = statusSpan('dot' + (src.connected ? ' on' : ''));
+    parts.push(statusSpan('segment', dot, `${src.name} `, statusSpan('unit', `${(src.rateHz || 0).toFixed(1)} Hz`)));
   }
   for (const p of app.panes) {
     const age = p.ageMs();
-    if (parts.length) parts.push('\u2003|\u2003');
-    parts.push(`${p.view} ${p.encodingLabel()} ${p.fps().toFixed(1)} fps · ${age === null ? '–' : Math.round(age) + ' ms'} · dropped ${p.skipped}`);
+    parts.push(statusSpan('segment', `${p.view} ${p.encodingLabel()} `,
+      statusSpan('unit', `${p.fps().toFixed(1)} fps`), ' · ',
+      statusSpan('unit', age === null ? '–' : Math.round(age) + ' ms'), ' · ',
+      statusSpan('unit', `dropped ${p.skipped}`)));
   }
   el.replaceChildren(...parts);
   const down = (st.sources || []).filter((s) => !s.connected);

@@ -23,7 +23,11 @@ def browser(width=1280, height=800):
     for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
               f"--window-size={width},{height}", "--use-gl=swiftshader", "--enable-unsafe-swiftshader"):
         options.add_argument(a)
-    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+    driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+    if width < 500:  # headless Chromium's windows are at least 500 px wide: a phone's viewport is emulated
+        driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                               {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
+    return driver
 
 
 def wait_until(predicate, timeout, what):
@@ -276,11 +280,23 @@ class ConsoleBrowserTest(unittest.TestCase):
     def test_phone_layout_fits(self):
         driver = self.open(OPERATOR_TOKEN, "?layout=split", width=390, height=844)
         self.wait_live(driver, "front")
+        self.assertEqual(driver.execute_script("return window.innerWidth"), 390)
         overflow = driver.execute_script("return document.documentElement.scrollWidth - window.innerWidth")
         self.assertLessEqual(overflow, 0)
         boxes = driver.execute_script("return [...document.querySelectorAll('.pane')].map(p => p.getBoundingClientRect().height)")
         self.assertEqual(len(boxes), 2)
         self.assertTrue(all(h > 150 for h in boxes), boxes)
+        # The status line wraps rather than cutting anything off: the source's rate and each
+        # pane's fps, frame age and dropped frames all show.
+        status = wait_until(lambda: (lambda t: t if t.count(" ms") == 2 and "Hz" in t else None)(
+            driver.find_element(By.ID, "status").text), seconds(10), "both panes' figures in the status line")
+        for words in ("spot", "birdseye", "front", "fps", "dropped"):
+            self.assertIn(words, status)
+        clipped = driver.execute_script(
+            "const s = document.getElementById('status'); return s.scrollWidth - s.clientWidth;")
+        self.assertLessEqual(clipped, 0, status)
+        if ARGS.screenshot:
+            driver.save_screenshot(str(Path(ARGS.screenshot).with_name("console_phone.png")))
 
     def test_tap_on_the_birdseye_turns_the_front_view_there(self):
         driver = self.open(OPERATOR_TOKEN, "?layout=split")

@@ -17,16 +17,14 @@ constexpr int kMaxCallsInFlight = 4;  // per client: a joystick waits for its re
 constexpr auto kAuthTimeout = std::chrono::seconds(10);  // a connection that never authenticates is closed
 
 // What a subscription that ended on its own (its view deleted, the daemon stopping) tells
-// the client; nothing when the client unsubscribed.
-std::function<void()> ended_notice(std::weak_ptr<Connection> connection, uint32_t channel,
-                                   std::shared_ptr<std::atomic<bool>> stopping,
-                                   std::function<std::pair<grpc::StatusCode, std::string>()> why) {
-  return [connection = std::move(connection), channel, stopping = std::move(stopping), why = std::move(why)] {
-    if (*stopping) return;
-    const auto [code, reason] = why();
+// the client (Stream silences it for an unsubscribe).
+template <class AnySubscriber>
+std::function<void(const AnySubscriber&)> ended_notice(std::weak_ptr<Connection> connection, uint32_t channel) {
+  return [connection = std::move(connection), channel](const AnySubscriber& subscriber) {
     if (const auto c = connection.lock()) {
       c->send_text("{\"op\":\"ended\",\"channel\":" + std::to_string(channel) + ",\"error\":{\"code\":" +
-                   json::quote(code_name(code)) + ",\"message\":" + json::quote(reason) + "}}");
+                   json::quote(code_name(subscriber.close_code())) +
+                   ",\"message\":" + json::quote(subscriber.close_reason()) + "}}");
     }
   };
 }
@@ -104,7 +102,7 @@ void ConsoleProtocol::on_message(std::string_view data, bool binary) {
   }
 }
 
-void ConsoleProtocol::handle(const json::Struct& message, std::optional<int64_t> id) {
+void ConsoleProtocol::handle(const json::Value& message, std::optional<int64_t> id) {
   const auto op = json::string_field(message, "op");
   if (!op) throw std::invalid_argument(std::string("no 'op' (one of: ") + kOps + ")");
   if (*op == "auth") return authenticate(message, id);
@@ -121,7 +119,7 @@ void ConsoleProtocol::handle(const json::Struct& message, std::optional<int64_t>
   throw std::invalid_argument("unknown op '" + *op + "' (one of: " + kOps + ")");
 }
 
-void ConsoleProtocol::authenticate(const json::Struct& message, std::optional<int64_t> id) {
+void ConsoleProtocol::authenticate(const json::Value& message, std::optional<int64_t> id) {
   const auto token = json::string_field(message, "token").value_or("");
   Caller caller;
   const grpc::Status s = context_.auth.check_header("Bearer " + token, Role::kViewer, &caller);
@@ -137,7 +135,7 @@ void ConsoleProtocol::authenticate(const json::Struct& message, std::optional<in
   reply(id, "{\"role\":" + json::quote(to_string(caller.role)) + "}");
 }
 
-void ConsoleProtocol::call(const json::Struct& message, std::optional<int64_t> id) {
+void ConsoleProtocol::call(const json::Value& message, std::optional<int64_t> id) {
   const auto method = json::string_field(message, "method");
   if (!method) throw std::invalid_argument("'call' needs a 'method' (e.g. \"UpdateView\")");
   const auto role = context_.calls.role_of(*method);
@@ -157,10 +155,10 @@ void ConsoleProtocol::call(const json::Struct& message, std::optional<int64_t> i
                 "more than " + std::to_string(kMaxCallsInFlight) + " calls in flight: wait for their replies");
   }
   const json::Value* request = json::find(message, "request");
-  if (request && !request->has_struct_value() && !request->has_null_value()) {
+  if (request && !request->is_object() && !request->is_null()) {
     throw std::invalid_argument("'request' must be an object (the API's request message as JSON)");
   }
-  const std::string text = request && request->has_struct_value() ? json::to_text(*request) : "";
+  const std::string text = request && request->is_object() ? json::to_text(*request) : "";
   ++*calls_in_flight_;
   // Off the I/O thread: UpdateView returns only once the view's new map is built.
   boost::asio::post(context_.workers, [connection = connection_, calls = &context_.calls, in_flight = calls_in_flight_,
@@ -187,7 +185,7 @@ bool ConsoleProtocol::check_stream_limit(std::optional<int64_t> id) {
   return false;
 }
 
-void ConsoleProtocol::subscribe(const json::Struct& message, std::optional<int64_t> id) {
+void ConsoleProtocol::subscribe(const json::Value& message, std::optional<int64_t> id) {
   const auto view = json::string_field(message, "view");
   if (!view || view->empty()) throw std::invalid_argument("'subscribe' needs a 'view'");
   if (!check_stream_limit(id)) return;
@@ -206,34 +204,22 @@ void ConsoleProtocol::subscribe(const json::Struct& message, std::optional<int64
 
   const auto subscriber = context_.pipeline.subscribe(*view, peer_ + " (web)", key, rate, stale);  // NOT_FOUND: ApiError
   const uint32_t channel = next_channel_++;
-  Channel ch;
-  ch.release = [&pipeline = context_.pipeline, view = *view, sub = subscriber] { pipeline.unsubscribe(view, sub.get()); };
-  ch.stopping = std::make_shared<std::atomic<bool>>(false);
-  Pump::Source source;
-  source.take = [sub = subscriber, channel](std::chrono::milliseconds timeout) {
-    Pump::Item item;
-    const auto frame = sub->take(timeout);
-    if (!frame) return item;
-    item.kind = *frame ? Pump::Item::kMessage : Pump::Item::kEnd;
-    if (*frame) item.message = frame_message(channel, *frame);
-    return item;
-  };
-  source.sent = [sub = subscriber] { sub->count_sent(); };
-  source.ended = ended_notice(connection_, channel, ch.stopping, [sub = subscriber] {
-    return std::make_pair(sub->close_code(), sub->close_reason());
-  });
-  source.interrupt = [sub = subscriber] { sub->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
-  ch.pump = std::make_unique<Pump>(connection_, channel, std::move(source));
-  channels_.emplace(channel, std::move(ch));
+  auto source = subscriber_source(
+      subscriber, [channel](const SharedFrame& frame) { return frame_message(channel, frame); },
+      ended_notice<Subscriber>(connection_, channel));
+  channels_.try_emplace(channel, connection_, channel, std::move(source),
+                        [&pipeline = context_.pipeline, view = *view, subscriber] {
+                          pipeline.unsubscribe(view, subscriber.get());
+                        });
   reply(id, "{\"channel\":" + std::to_string(channel) + ",\"view\":" + json::quote(*view) +
                 ",\"maxRateHz\":" + number_text(rate) + ",\"encoding\":" + json::quote(to_string(key)) + "}");
 }
 
-void ConsoleProtocol::subscribe_cloud(const json::Struct& message, std::optional<int64_t> id) {
+void ConsoleProtocol::subscribe_cloud(const json::Value& message, std::optional<int64_t> id) {
   // The request is StreamClouds' own message, checked as the gRPC call checks it.
   v1::StreamCloudsRequest request;
   if (const json::Value* r = json::find(message, "request")) {
-    if (!r->has_struct_value()) throw std::invalid_argument("'request' must be an object (a StreamCloudsRequest)");
+    if (!r->is_object()) throw std::invalid_argument("'request' must be an object (a StreamCloudsRequest)");
     if (const auto error = json::text_to_message(json::to_text(*r), request); !error.empty()) {
       throw std::invalid_argument("request is not a StreamCloudsRequest: " + error);
     }
@@ -245,53 +231,30 @@ void ConsoleProtocol::subscribe_cloud(const json::Struct& message, std::optional
   const auto subscriber = context_.pipeline.subscribe_cloud(request.source(), peer_ + " (web)",
                                                             cloud_request_from_proto(request.options()), rate);
   const uint32_t channel = next_channel_++;
-  Channel ch;
-  ch.release = [&pipeline = context_.pipeline, source = request.source(), sub = subscriber] {
-    pipeline.unsubscribe_cloud(source, sub.get());
-  };
-  ch.stopping = std::make_shared<std::atomic<bool>>(false);
-  Pump::Source source;
-  source.take = [sub = subscriber, channel](std::chrono::milliseconds timeout) {
-    Pump::Item item;
-    const auto cloud = sub->take(timeout);
-    if (!cloud) return item;
-    item.kind = *cloud ? Pump::Item::kMessage : Pump::Item::kEnd;
-    if (*cloud) item.message = cloud_message(channel, *cloud);
-    return item;
-  };
-  source.sent = [sub = subscriber] { sub->count_sent(); };
-  source.ended = ended_notice(connection_, channel, ch.stopping, [sub = subscriber] {
-    return std::make_pair(sub->close_code(), sub->close_reason());
-  });
-  source.interrupt = [sub = subscriber] { sub->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
-  ch.pump = std::make_unique<Pump>(connection_, channel, std::move(source));
-  channels_.emplace(channel, std::move(ch));
+  auto source = subscriber_source(
+      subscriber, [channel](const SharedCloud& cloud) { return cloud_message(channel, cloud); },
+      ended_notice<CloudSubscriber>(connection_, channel));
+  channels_.try_emplace(channel, connection_, channel, std::move(source),
+                        [&pipeline = context_.pipeline, source = request.source(), subscriber] {
+                          pipeline.unsubscribe_cloud(source, subscriber.get());
+                        });
   reply(id, "{\"channel\":" + std::to_string(channel) + ",\"maxRateHz\":" + number_text(rate) + "}");
 }
 
-void ConsoleProtocol::unsubscribe(const json::Struct& message, std::optional<int64_t> id) {
+void ConsoleProtocol::unsubscribe(const json::Value& message, std::optional<int64_t> id) {
   const auto channel = json::integer_field(message, "channel", 0, UINT32_MAX);
   if (!channel) throw std::invalid_argument("'unsubscribe' needs a 'channel'");
   if (!channels_.count(static_cast<uint32_t>(*channel))) {
     return fail(id, grpc::StatusCode::NOT_FOUND, "no channel " + std::to_string(*channel) + " on this connection");
   }
-  stop(static_cast<uint32_t>(*channel));
+  channels_.erase(static_cast<uint32_t>(*channel));  // Stream's end stops its pump and leaves the pipeline
   reply(id, "{}");
-}
-
-void ConsoleProtocol::stop(uint32_t channel) {
-  const auto it = channels_.find(channel);
-  if (it == channels_.end()) return;
-  *it->second.stopping = true;
-  it->second.pump->stop();
-  it->second.release();
-  channels_.erase(it);
 }
 
 void ConsoleProtocol::on_close() {
   if (closed_) return;
   closed_ = true;
-  while (!channels_.empty()) stop(channels_.begin()->first);
+  channels_.clear();
 }
 
 }  // namespace omniview::web

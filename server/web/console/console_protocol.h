@@ -4,13 +4,14 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "server/web/json/json.h"
-#include "server/web/stream/pump.h"
+#include "server/web/stream/stream.h"
 #include "server/web/web_context.h"
 #include "server/web/ws/connection.h"
 
@@ -30,20 +31,13 @@ class ConsoleProtocol : public Protocol {
   void on_close() override;
 
  private:
-  struct Channel {
-    std::shared_ptr<std::atomic<bool>> stopping;
-    std::unique_ptr<Pump> pump;
-    std::function<void()> release;  // leaves the pipeline (unsubscribe)
-  };
-
-  void handle(const json::Struct& message, std::optional<int64_t> id);
-  void authenticate(const json::Struct& message, std::optional<int64_t> id);
-  void call(const json::Struct& message, std::optional<int64_t> id);
-  void subscribe(const json::Struct& message, std::optional<int64_t> id);
-  void subscribe_cloud(const json::Struct& message, std::optional<int64_t> id);
+  void handle(const json::Value& message, std::optional<int64_t> id);
+  void authenticate(const json::Value& message, std::optional<int64_t> id);
+  void call(const json::Value& message, std::optional<int64_t> id);
+  void subscribe(const json::Value& message, std::optional<int64_t> id);
+  void subscribe_cloud(const json::Value& message, std::optional<int64_t> id);
   bool check_stream_limit(std::optional<int64_t> id);
-  void unsubscribe(const json::Struct& message, std::optional<int64_t> id);
-  void stop(uint32_t channel);
+  void unsubscribe(const json::Value& message, std::optional<int64_t> id);
 
   void reply(std::optional<int64_t> id, const std::string& response_json);
   void fail(std::optional<int64_t> id, grpc::StatusCode code, const std::string& message);
@@ -53,7 +47,7 @@ class ConsoleProtocol : public Protocol {
   const WebContext& context_;
   std::optional<Caller> caller_;
   std::string peer_;
-  std::map<uint32_t, Channel> channels_;
+  std::map<uint32_t, Stream> channels_;
   uint32_t next_channel_ = 1;
   std::shared_ptr<std::atomic<int>> calls_in_flight_ = std::make_shared<std::atomic<int>>(0);
   bool closed_ = false;

@@ -1,54 +1,18 @@
 #include "server/web/foxglove/foxglove_protocol.h"
 
 #include <chrono>
-#include <condition_variable>
-#include <mutex>
 
 #include "server/pipeline/cloud/cloud_request.h"
 #include "server/pipeline/frame_encoder.h"
 #include "server/video/h264_encoder.h"
 #include "server/web/foxglove/foxglove_messages.h"
+#include "server/web/foxglove/foxglove_sources.h"
 
 namespace omniview::web {
 
 namespace {
 
-constexpr auto kTransformPeriod = std::chrono::seconds(1);
 constexpr auto kReadvertisePeriod = std::chrono::seconds(2);
-
-// The /tf channel's clock: a FrameTransforms message now, then once a period; interrupt()
-// ends a wait at once.
-class Ticker {
- public:
-  bool wait(std::chrono::milliseconds timeout) {
-    std::unique_lock lock(mutex_);
-    const auto now = std::chrono::steady_clock::now();
-    if (now >= next_) {
-      next_ = now + kTransformPeriod;
-      return true;
-    }
-    changed_.wait_for(lock, std::min<std::chrono::steady_clock::duration>(timeout, next_ - now),
-                      [&] { return stopped_; });
-    return false;
-  }
-  bool stopped() {
-    std::lock_guard lock(mutex_);
-    return stopped_;
-  }
-  void interrupt() {
-    {
-      std::lock_guard lock(mutex_);
-      stopped_ = true;
-    }
-    changed_.notify_all();
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::chrono::steady_clock::time_point next_{};
-  bool stopped_ = false;
-};
 
 // Whether a view's size can be H.264 (4:2:0 needs even sides): odd ones get no video channel.
 bool h264_size(int width, int height) {
@@ -130,11 +94,7 @@ void FoxgloveProtocol::advertise() {
       ++it;
       continue;
     }
-    std::vector<uint32_t> ended;
-    for (const auto& [id, sub] : subscriptions_) {
-      if (sub.channel == it->first) ended.push_back(id);
-    }
-    for (const uint32_t id : ended) stop(id);
+    std::erase_if(subscriptions_, [&](const auto& entry) { return entry.second.channel == it->first; });
     gone += (gone.empty() ? "" : ",") + std::to_string(it->first);
     it = channels_.erase(it);
   }
@@ -168,17 +128,17 @@ void FoxgloveProtocol::on_message(std::string_view data, bool binary) {
   }
 }
 
-void FoxgloveProtocol::subscribe(const json::Struct& message) {
+void FoxgloveProtocol::subscribe(const json::Value& message) {
   const json::Value* list = json::find(message, "subscriptions");
-  if (!list || !list->has_list_value()) throw std::invalid_argument("'subscribe' needs a 'subscriptions' list");
-  for (const auto& entry : list->list_value().values()) {
-    if (!entry.has_struct_value()) {
+  if (!list || !list->is_array()) throw std::invalid_argument("'subscribe' needs a 'subscriptions' list");
+  for (const auto& entry : *list) {
+    if (!entry.is_object()) {
       status(2, "each subscription must be an object {id, channelId}");
       continue;
     }
     try {
-      const auto id = json::integer_field(entry.struct_value(), "id", 0, UINT32_MAX);
-      const auto channel = json::integer_field(entry.struct_value(), "channelId", 0, UINT32_MAX);
+      const auto id = json::integer_field(entry, "id", 0, UINT32_MAX);
+      const auto channel = json::integer_field(entry, "channelId", 0, UINT32_MAX);
       if (!id || !channel) {
         status(2, "a subscription needs 'id' and 'channelId'");
         continue;
@@ -192,20 +152,20 @@ void FoxgloveProtocol::subscribe(const json::Struct& message) {
   }
 }
 
-void FoxgloveProtocol::unsubscribe(const json::Struct& message) {
+void FoxgloveProtocol::unsubscribe(const json::Value& message) {
   const json::Value* list = json::find(message, "subscriptionIds");
-  if (!list || !list->has_list_value()) throw std::invalid_argument("'unsubscribe' needs a 'subscriptionIds' list");
-  for (const auto& v : list->list_value().values()) {
-    if (!v.has_number_value() || v.number_value() < 0 || v.number_value() > UINT32_MAX) {
+  if (!list || !list->is_array()) throw std::invalid_argument("'unsubscribe' needs a 'subscriptionIds' list");
+  for (const auto& v : *list) {
+    if (!v.is_number() || !(v.get<double>() >= 0 && v.get<double>() <= UINT32_MAX)) {
       status(2, "subscription ids are numbers");
       continue;
     }
-    const auto id = static_cast<uint32_t>(v.number_value());
+    const auto id = static_cast<uint32_t>(v.get<double>());
     if (!subscriptions_.count(id)) {
       status(1, "no subscription " + std::to_string(id));
       continue;
     }
-    stop(id);
+    subscriptions_.erase(id);  // Stream's end stops its pump and leaves the pipeline
   }
 }
 
@@ -234,9 +194,9 @@ void FoxgloveProtocol::start(uint32_t id, uint32_t channel_id) {
     return status(2, "at most one subscription per calibration or transforms channel");
   }
   const Channel channel = ch->second;
-  Subscription sub{channel_id, std::make_shared<std::atomic<bool>>(false), nullptr, nullptr};
-  Pump::Source source;
   const std::string peer = peer_ + " (foxglove)";
+  Pump::Source source;
+  std::function<void()> release;
   if (channel.kind == Kind::kImage || channel.kind == Kind::kVideo || channel.kind == Kind::kCalibration) {
     // The default quality: the encoding most clients share, so usually no extra encode. A
     // video subscriber joins its group's one encoder at a key frame, and after a frame it
@@ -244,110 +204,31 @@ void FoxgloveProtocol::start(uint32_t id, uint32_t channel_id) {
     const v1::Encoding encoding = channel.kind == Kind::kVideo ? v1::H264 : v1::JPEG;
     const auto subscriber =
         context_.pipeline.subscribe(channel.target, peer, encoding_key(encoding, 0, false), context_.limits.max_rate_hz);
-    sub.release = [&pipeline = context_.pipeline, view = channel.target, subscriber] {
+    release = [&pipeline = context_.pipeline, view = channel.target, subscriber] {
       pipeline.unsubscribe(view, subscriber.get());
     };
-    const Kind kind = channel.kind;
-    const std::string frame_id = channel.target + "_optical";
-    source.take = [subscriber, id, kind, frame_id](std::chrono::milliseconds timeout) {
-      Pump::Item item;
-      const auto frame = subscriber->take(timeout);
-      if (!frame) return item;
-      if (!*frame) {
-        item.kind = Pump::Item::kEnd;
-        return item;
-      }
-      const auto& f = **frame;
-      item.kind = Pump::Item::kMessage;
-      if (kind == Kind::kImage) {
-        item.message = foxglove_io::message_data(id, foxglove_io::time_ns(f.capture_time()),
-                                                 foxglove_io::compressed_image_prefix(f, frame_id), 2, f.data(),
-                                                 *frame);
-      } else if (kind == Kind::kVideo) {
-        item.message = foxglove_io::message_data(id, foxglove_io::time_ns(f.capture_time()),
-                                                 foxglove_io::compressed_video_prefix(f, frame_id), 3, f.data(),
-                                                 *frame);
-      } else {
-        item.message = foxglove_io::message_data(id, foxglove_io::time_ns(f.capture_time()),
-                                                 foxglove_io::camera_calibration(f, frame_id), 0, {}, nullptr);
-      }
-      return item;
-    };
-    source.sent = [subscriber] { subscriber->count_sent(); };
-    source.interrupt = [subscriber] { subscriber->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
-    source.ended = [subscriber, stopping = sub.stopping, connection = connection_, topic = channel.topic] {
-      if (*stopping) return;
-      if (const auto c = connection.lock()) {
-        c->send_text("{\"op\":\"status\",\"level\":2,\"message\":" +
-                     json::quote(topic + ": " + subscriber->close_reason()) + "}");
-      }
-    };
+    source = subscriber_source(subscriber, foxglove_io::frame_data(id, channel.kind, channel.target + "_optical"),
+                               foxglove_io::ended_status<Subscriber>(connection_, channel.topic));
   } else if (channel.kind == Kind::kCloud) {
     v1::CloudOptions options;
     options.set_voxel_size_m(0.05);  // a few cm: what a 3D panel shows well, a tenth of the bytes
     const auto subscriber = context_.pipeline.subscribe_cloud(channel.target, peer, cloud_request_from_proto(options),
                                                               std::min(10.0, context_.limits.max_rate_hz));
-    sub.release = [&pipeline = context_.pipeline, src = channel.target, subscriber] {
+    release = [&pipeline = context_.pipeline, src = channel.target, subscriber] {
       pipeline.unsubscribe_cloud(src, subscriber.get());
     };
-    source.take = [subscriber, id](std::chrono::milliseconds timeout) {
-      Pump::Item item;
-      const auto cloud = subscriber->take(timeout);
-      if (!cloud) return item;
-      if (!*cloud) {
-        item.kind = Pump::Item::kEnd;
-        return item;
-      }
-      item.kind = Pump::Item::kMessage;
-      item.message = foxglove_io::message_data(id, foxglove_io::time_ns((*cloud)->stamp()),
-                                               foxglove_io::point_cloud_prefix(**cloud), 6, (*cloud)->data(), *cloud);
-      return item;
-    };
-    source.sent = [subscriber] { subscriber->count_sent(); };
-    source.interrupt = [subscriber] { subscriber->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
-    source.ended = [subscriber, stopping = sub.stopping, connection = connection_, topic = channel.topic] {
-      if (*stopping) return;
-      if (const auto c = connection.lock()) {
-        c->send_text("{\"op\":\"status\",\"level\":2,\"message\":" +
-                     json::quote(topic + ": " + subscriber->close_reason()) + "}");
-      }
-    };
+    source = subscriber_source(subscriber, [id](const SharedCloud& cloud) { return foxglove_io::cloud_data(id, cloud); },
+                               foxglove_io::ended_status<CloudSubscriber>(connection_, channel.topic));
   } else {
-    auto ticker = std::make_shared<Ticker>();
-    sub.release = [] {};
-    source.take = [ticker, id, &pipeline = context_.pipeline](std::chrono::milliseconds timeout) {
-      Pump::Item item;
-      if (ticker->stopped()) {
-        item.kind = Pump::Item::kEnd;
-        return item;
-      }
-      if (!ticker->wait(timeout)) return item;
-      item.kind = Pump::Item::kMessage;
-      const auto now = std::chrono::duration_cast<std::chrono::nanoseconds>(
-          std::chrono::system_clock::now().time_since_epoch());
-      item.message = foxglove_io::message_data(id, static_cast<uint64_t>(now.count()),
-                                               foxglove_io::frame_transforms(pipeline), 0, {}, nullptr);
-      return item;
-    };
-    source.interrupt = [ticker] { ticker->interrupt(); };
+    source = foxglove_io::transforms_source(id, context_.pipeline);
   }
-  sub.pump = std::make_unique<Pump>(connection_, id, std::move(source));
-  subscriptions_.emplace(id, std::move(sub));
-}
-
-void FoxgloveProtocol::stop(uint32_t id) {
-  const auto it = subscriptions_.find(id);
-  if (it == subscriptions_.end()) return;
-  *it->second.stopping = true;
-  it->second.pump->stop();
-  it->second.release();
-  subscriptions_.erase(it);
+  subscriptions_.try_emplace(id, channel_id, connection_, id, std::move(source), std::move(release));
 }
 
 void FoxgloveProtocol::on_close() {
   if (closed_) return;
   closed_ = true;
-  while (!subscriptions_.empty()) stop(subscriptions_.begin()->first);
+  subscriptions_.clear();
 }
 
 }  // namespace omniview::web

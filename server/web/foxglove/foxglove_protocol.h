@@ -2,6 +2,7 @@
 // so Foxglove and Lichtblick show omniview's views and clouds with no plugin:
 //
 //   /<view>/image         foxglove.CompressedImage   the view's frames (JPEG)
+//   /<view>/video         foxglove.CompressedVideo   the same as H.264 (views with even sides)
 //   /<view>/calibration   foxglove.CameraCalibration pinhole views: the virtual camera
 //   /<source>/cloud       foxglove.PointCloud        coloured lidar clouds (sources with one)
 //   /tf                   foxglove.FrameTransforms   rig frames, views and their optical frames
@@ -13,13 +14,13 @@
 // the daemon has tokens (in the URL's `token` query, where Foxglove's clients can put it).
 #pragma once
 
-#include <atomic>
 #include <map>
 #include <memory>
 #include <string>
 
 #include "server/web/json/json.h"
-#include "server/web/stream/pump.h"
+#include "server/web/foxglove/foxglove_sources.h"
+#include "server/web/stream/stream.h"
 #include "server/web/web_context.h"
 #include "server/web/ws/connection.h"
 
@@ -35,7 +36,7 @@ class FoxgloveProtocol : public Protocol {
   void on_close() override;
 
  private:
-  enum class Kind { kImage, kVideo, kCalibration, kCloud, kTransforms };
+  using Kind = foxglove_io::Topic;
   struct Channel {
     Kind kind;
     std::string target;  // the view or source
@@ -43,19 +44,19 @@ class FoxgloveProtocol : public Protocol {
     std::string schema_name;
   };
   struct Subscription {
+    template <class... StreamArgs>
+    explicit Subscription(uint32_t channel_id, StreamArgs&&... args)
+        : channel(channel_id), stream(std::forward<StreamArgs>(args)...) {}
     uint32_t channel;
-    std::shared_ptr<std::atomic<bool>> stopping;
-    std::unique_ptr<Pump> pump;
-    std::function<void()> release;
+    Stream stream;
   };
 
   // Advertises the channels not advertised yet and unadvertises those gone; again every
   // few seconds, so views created or deleted at run time show up.
   void advertise();
-  void subscribe(const json::Struct& message);
-  void unsubscribe(const json::Struct& message);
+  void subscribe(const json::Value& message);
+  void unsubscribe(const json::Value& message);
   void start(uint32_t subscription, uint32_t channel_id);
-  void stop(uint32_t subscription);
   // A status message (level 0 info, 1 warning, 2 error), as the protocol reports problems.
   void status(int level, const std::string& message);
   void send(std::string text);

@@ -1,6 +1,7 @@
 #include "server/web/json/json.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -10,40 +11,61 @@ namespace omniview::web::json {
 
 namespace util = google::protobuf::util;
 
-std::optional<Struct> parse_object(std::string_view text, std::string* error) {
-  Struct object;
-  util::JsonParseOptions options;
-  options.ignore_unknown_fields = false;
-  const auto status = util::JsonStringToMessage(std::string(text), &object, options);
-  if (!status.ok()) {
-    if (error) *error = "not a JSON object: " + std::string(status.message());
+namespace {
+
+// nlohmann's messages start with "[json.exception.parse_error.101] ": clients need the rest.
+std::string without_exception_tag(const std::string& what) {
+  const auto end = what.find("] ");
+  return what.rfind("[json.exception.", 0) == 0 && end != std::string::npos ? what.substr(end + 2) : what;
+}
+
+}  // namespace
+
+std::optional<Value> parse_object(std::string_view text, std::string* error) {
+  const auto refuse = [error](const std::string& why) {
+    if (error) *error = "not a JSON object: " + why;
     return std::nullopt;
+  };
+  int depth = 0;  // the most objects and arrays open at once
+  const auto deepest = [&depth](int d, Value::parse_event_t event, Value&) {
+    using Event = Value::parse_event_t;
+    if (event == Event::object_start || event == Event::array_start) depth = std::max(depth, d + 1);
+    return true;
+  };
+  Value value;
+  try {
+    value = Value::parse(text.begin(), text.end(), deepest);  // comments are errors too
+  } catch (const Value::parse_error& e) {
+    return refuse(without_exception_tag(e.what()));
   }
-  return object;
+  if (!value.is_object()) return refuse(std::string("the message is a JSON ") + value.type_name());
+  if (depth > kMaxDepth) return refuse("nested deeper than " + std::to_string(kMaxDepth) + " levels");
+  return value;
 }
 
-const Value* find(const Struct& object, const std::string& key) {
-  const auto it = object.fields().find(key);
-  return it == object.fields().end() ? nullptr : &it->second;
+const Value* find(const Value& object, const std::string& key) {
+  if (!object.is_object()) return nullptr;
+  const auto it = object.find(key);
+  return it == object.end() ? nullptr : &*it;
 }
 
-std::optional<std::string> string_field(const Struct& object, const std::string& key) {
+std::optional<std::string> string_field(const Value& object, const std::string& key) {
   const Value* v = find(object, key);
-  if (!v || v->has_null_value()) return std::nullopt;
-  if (!v->has_string_value()) throw std::invalid_argument("'" + key + "' must be a string");
-  return v->string_value();
+  if (!v || v->is_null()) return std::nullopt;
+  if (!v->is_string()) throw std::invalid_argument("'" + key + "' must be a string");
+  return v->get<std::string>();
 }
 
-std::optional<double> number_field(const Struct& object, const std::string& key) {
+std::optional<double> number_field(const Value& object, const std::string& key) {
   const Value* v = find(object, key);
-  if (!v || v->has_null_value()) return std::nullopt;
-  if (!v->has_number_value() || !std::isfinite(v->number_value())) {
+  if (!v || v->is_null()) return std::nullopt;
+  if (!v->is_number() || !std::isfinite(v->get<double>())) {
     throw std::invalid_argument("'" + key + "' must be a number");
   }
-  return v->number_value();
+  return v->get<double>();
 }
 
-std::optional<int64_t> integer_field(const Struct& object, const std::string& key, int64_t lo, int64_t hi) {
+std::optional<int64_t> integer_field(const Value& object, const std::string& key, int64_t lo, int64_t hi) {
   const auto n = number_field(object, key);
   if (!n) return std::nullopt;
   if (*n != std::floor(*n) || *n < static_cast<double>(lo) || *n > static_cast<double>(hi)) {
@@ -53,18 +75,14 @@ std::optional<int64_t> integer_field(const Struct& object, const std::string& ke
   return static_cast<int64_t>(*n);
 }
 
-std::optional<bool> bool_field(const Struct& object, const std::string& key) {
+std::optional<bool> bool_field(const Value& object, const std::string& key) {
   const Value* v = find(object, key);
-  if (!v || v->has_null_value()) return std::nullopt;
-  if (!v->has_bool_value()) throw std::invalid_argument("'" + key + "' must be true or false");
-  return v->bool_value();
+  if (!v || v->is_null()) return std::nullopt;
+  if (!v->is_boolean()) throw std::invalid_argument("'" + key + "' must be true or false");
+  return v->get<bool>();
 }
 
-std::string to_text(const Value& value) {
-  std::string out;
-  (void)util::MessageToJsonString(value, &out);
-  return out;
-}
+std::string to_text(const Value& value) { return value.dump(); }
 
 std::string message_to_text(const google::protobuf::Message& message) {
   std::string out;

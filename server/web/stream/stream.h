@@ -1,0 +1,57 @@
+// One subscription as a web protocol holds it: the Pump that carries its items to the
+// client and its way out of the pipeline. Both protocols (console, Foxglove) start their
+// view and cloud subscriptions through here.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+
+#include <grpcpp/support/status_code_enum.h>
+
+#include "server/web/stream/pump.h"
+
+namespace omniview::web {
+
+// A Pump::Source over a pipeline subscriber: a view's Subscriber or a CloudSubscriber, which
+// share take(), count_sent() and close(). `to_message` makes each item's message; `ended`
+// runs when the subscriber closed on its own (Stream drops it after stop()).
+template <class AnySubscriber, class ToMessage>
+Pump::Source subscriber_source(std::shared_ptr<AnySubscriber> subscriber, ToMessage to_message,
+                               std::function<void(const AnySubscriber&)> ended) {
+  Pump::Source source;
+  source.take = [subscriber, to_message = std::move(to_message)](std::chrono::milliseconds timeout) {
+    Pump::Item item;
+    const auto next = subscriber->take(timeout);  // nullopt: nothing yet; a null item: closed
+    if (!next) return item;
+    item.kind = *next ? Pump::Item::kMessage : Pump::Item::kEnd;
+    if (*next) item.message = to_message(*next);
+    return item;
+  };
+  source.sent = [subscriber] { subscriber->count_sent(); };
+  source.ended = [subscriber, ended = std::move(ended)] { ended(*subscriber); };
+  source.interrupt = [subscriber] { subscriber->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
+  return source;
+}
+
+class Stream {
+ public:
+  // Starts pumping `source` to `channel` of the connection. `release` leaves the pipeline
+  // (the subscriber's unsubscribe); it runs once, at stop().
+  Stream(std::weak_ptr<Connection> connection, uint32_t channel, Pump::Source source, std::function<void()> release);
+  ~Stream();
+  Stream(const Stream&) = delete;
+  Stream& operator=(const Stream&) = delete;
+
+  // Ends the stream at the client's wish: the source's `ended` notice stays silent, the
+  // pump's thread is joined and the pipeline released. Idempotent.
+  void stop();
+
+ private:
+  std::shared_ptr<std::atomic<bool>> stopping_ = std::make_shared<std::atomic<bool>>(false);
+  std::function<void()> release_;
+  std::unique_ptr<Pump> pump_;
+};
+
+}  // namespace omniview::web
