@@ -65,8 +65,8 @@ sources:
               right_fisheye_image, back_fisheye_image]
     rate_hz: 15
 views:
-  - {{name: front, type: perspective, source: spot, width: 320, height: 160, frame: body,
-      pose: {{xyz: [0.42, 0, 0], ypr_deg: [0, 27, 0]}}, hfov_deg: 115, distance: 3.0}}
+  - {{name: front, type: perspective, source: spot, width: 320, height: 160, frame: footprint,
+      pose: {{xyz: [0.42, 0, 0.52], ypr_deg: [0, 27, 0]}}, hfov_deg: 115, distance: 3.0, ground: true}}
   - {{name: birdseye, type: birdseye, source: spot, width: 240, height: 240, frame: footprint,
       pose: {{xyz: [0, 0, 0], ypr_deg: [0, 90, 0]}}, height_m: 3.0, hfov_deg: 110}}
 """
