@@ -25,7 +25,7 @@ commands:
 
 talking to omniviewd:
   cameras   the cameras of the daemon's sources, with calibration and pose
-  views     list, get, create, update or delete views (views --help)
+  views     list, get, create, update, delete or save views (views --help)
   ptz       pan, tilt and zoom a view, absolutely or by steps
   snapshot  save the next frame of a view (-o out.png|.jpg|.raw, or - for stdout)
   watch     live frame rate, latency, size and drops of a view

@@ -1,6 +1,8 @@
 // `omniview stream VIEW --frames N -o DIR`: frames of a view saved as files, with an index;
 // `-o -`: the frames one after another on stdout (concatenated JPEGs are MJPEG for a pipe,
 // concatenated H.264 access units a raw H.264 elementary stream).
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -106,6 +108,11 @@ int stream_command(const std::vector<std::string>& argv) {
   if (!args) return 0;
   expect_positional(*args, 1, "VIEW");
   if (args->has("output") && args->get("output") == "-") {
+    // Binary video into a terminal garbles it; a person meant a pipe.
+    if (::isatty(STDOUT_FILENO)) {
+      throw UsageError("-o - writes a binary stream: pipe it into a player, e.g. omniview stream " +
+                       args->positional()[0] + " -o - | ffplay -f mjpeg -");
+    }
     return stream_to_stdout(*args, args->has("frames") ? parse_count(args->get("frames"), "--frames") : 0);
   }
   const int wanted = parse_count(args->required("frames"), "--frames");

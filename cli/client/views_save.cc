@@ -35,6 +35,9 @@ int save_views(Connection& connection, const std::string& file) {
   // Written beside the target and renamed over it: a daemon starting meanwhile reads the
   // old file or the new one, never half of one.
   const std::filesystem::path target(file), temporary(file + ".tmp");
+  if (const auto folder = target.parent_path(); !folder.empty() && !std::filesystem::is_directory(folder)) {
+    throw std::runtime_error("cannot write '" + file + "': the folder '" + folder.string() + "' does not exist");
+  }
   {
     std::ofstream f(temporary, std::ios::trunc);
     f << "# The views of omniviewd at " << connection.options().server << ", saved " << stamp

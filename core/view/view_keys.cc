@@ -37,6 +37,7 @@ std::string inapplicable_key(const std::string& key, ViewType type) {
   if (std::find(mine.begin(), mine.end(), key) != mine.end()) return "";
   std::string list;
   for (const auto& k : mine) list += (list.empty() ? "" : ", ") + k;
+  if (type != ViewType::kBirdseye) list += ", ground";  // a switch, not a surface length
   return key + " does not apply to " + to_string(type) + " views (their keys: " + list + ")";
 }
 

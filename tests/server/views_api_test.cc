@@ -291,7 +291,7 @@ TEST_F(ViewsApi, BadRequestsGetClearErrors) {
   auto fisheye_key = perspective("mixed", 320, 160, 90);
   fisheye_key.set_fov_deg(200);
   cases.push_back({fisheye_key, grpc::StatusCode::INVALID_ARGUMENT,
-                   "view 'mixed': fov_deg does not apply to perspective views (their keys: hfov_deg, distance)"});
+                   "view 'mixed': fov_deg does not apply to perspective views (their keys: hfov_deg, distance, ground_z, ground)"});
   for (const auto& c : cases) {
     SCOPED_TRACE(c.spec.ShortDebugString());
     const auto s = create(c.spec);
