@@ -35,12 +35,10 @@ timing_bound="Recording.AClientFarBehindSkipsAndSaysHowMany"
 # over JPEG is timed; a sequence gap is taken for a frame the client missed, where under a
 # sanitizer's slowdown the pipeline itself skips renders).
 timing_bound+="|H264Stream.AddsLessThanAFrameIntervalOfLatencyOverJpeg|H264Stream.AStalledClientResumesAtAKeyFrame"
-# Found this stop under ThreadSanitizer and not yet resolved (each runs in the release and
-# ASan trees): the cloud time-sync test's synthetic lidar scan runs on OpenCV's TBB workers,
-# whose hand-offs TSan cannot see; RTSPS's handshake races inside Debian's uninstrumented
-# libgnutls; a second H.264 client's 10 frames take longer than the test's bound at TSan's
-# speed. Next step: module suppressions checked one by one, and a bound by frames, not time.
-tsan_pending="CloudTimeSync\\.|Rtsp.WithTlsItSpeaksRtspsOnAnAddressOthersReach|H264Stream.AClientJoiningMidStream"
+# Found under ThreadSanitizer and not yet resolved (runs in the release and ASan trees):
+# RTSPS's handshake races inside Debian's uninstrumented libgnutls. Next step: a module
+# suppression checked against a gnutls built with TSan.
+tsan_pending="Rtsp.WithTlsItSpeaksRtspsOnAnAddressOthersReach"
 # The exposure tests start ~110 daemons to judge listen addresses: a single-threaded check
 # at start-up, nothing for ThreadSanitizer to see: built here (CTest wants every server
 # test program), run in the release and ASan trees.

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "cloud_scene.h"
+#include "core/map/worker_threads.h"
 #include "core/synthetic/lidar_scan.h"
 #include "core/synthetic/spot_like_rig.h"
 #include "server/pipeline/cloud/cloud_delivery.h"
@@ -96,6 +97,7 @@ std::pair<size_t, size_t> deliver(const Walk& w, const FrameSet* earlier, FrameS
 }
 
 TEST(CloudTimeSync, NearestImagesAndTheSourcesMotion) {
+  apply_worker_threads_from_env();  // OMNIVIEW_THREADS=1 (the TSan stage): no TBB hand-offs to miss
   const Walk w;
   // Images mid-sweep (+0.05 s), and the next set (+0.15 s) which the cloud arrives with.
   const FrameSet mid = w.images_at(0.05), next = w.images_at(0.15);
@@ -113,6 +115,7 @@ TEST(CloudTimeSync, NearestImagesAndTheSourcesMotion) {
 }
 
 TEST(CloudTimeSync, MotionAlsoFixesTheLaterSet) {
+  apply_worker_threads_from_env();
   const Walk w;
   const auto [right, coloured] = deliver(w, nullptr, w.images_at(0.15), w.odometry);
   EXPECT_GE(right, 0.99 * coloured) << right << " of " << coloured;
