@@ -85,8 +85,10 @@ void Subscriber::close(grpc::StatusCode code, const std::string& reason) {
 std::optional<SharedFrame> Subscriber::take(std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
   // A video client that lost frames asks for a key frame only now that it reads again: a
-  // stalled client does not make the shared encoder send key frames to everybody.
-  if (video_ && awaiting_key_ && started_ && !slot_ && !closed_) video_->request_key_frame();
+  // stalled client does not make the shared encoder send key frames to everybody. So does
+  // one that joined and has none yet: the key frame its arrival asked for may have gone to
+  // a frame rendered just before it joined, to the others only.
+  if (video_ && awaiting_key_ && !slot_ && !closed_) video_->request_key_frame();
   ready_.wait_for(lock, timeout, [&] { return slot_ || closed_; });
   if (slot_) return std::exchange(slot_, nullptr);
   if (closed_) return SharedFrame{};

@@ -258,7 +258,9 @@ TEST_F(H264Stream, AClientJoiningMidStreamDecodesFromItsFirstFrameAndSharesTheEn
   const auto joined = Clock::now();
   VideoClient second(daemon_->address(), h264("front"));
   ASSERT_TRUE(second.wait_for(10, std::max<std::chrono::milliseconds>(
-                                      scaled(3000ms), std::chrono::duration_cast<std::chrono::milliseconds>(30 * frame_time))));
+                                      scaled(3000ms), std::chrono::duration_cast<std::chrono::milliseconds>(30 * frame_time))))
+      << second.count() << " frames; first client " << first.count() << ", a frame per "
+      << std::chrono::duration_cast<std::chrono::milliseconds>(frame_time).count() << " ms";
   const auto frames = second.frames();
   EXPECT_TRUE(frames.front().key_frame);
   EXPECT_TRUE(frames.front().decoded) << second.last_error();
