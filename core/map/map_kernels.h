@@ -133,12 +133,7 @@ inline bool mask_allows(const Camera& c, float u, float v) {
 void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, bool blend, FusionMap& map,
                       int row_begin, int row_end);
 
-// Rows [band * kBlock, ...) of the nearest-centre policy, computed exactly on a grid every
-// kBlock pixels and interpolated inside blocks where that provably matches (see
-// adaptive_rows.cc); elsewhere exactly.
+// The adaptive builder's block size (adaptive/bands.h).
 inline constexpr int kBlock = 8;
-// Sets used[c] for every camera c the band reads.
-void build_band_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band,
-                         std::vector<uint8_t>& used);
 
 }  // namespace omniview::map_internal

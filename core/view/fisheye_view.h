@@ -18,11 +18,15 @@ class FisheyeView : public View {
   bool pixel_to_direction(double u, double v, Vec3& dir) const override;
   bool point_to_pixel(const Vec3& point, Vec2& uv) const override;
   void row_points(int v, float* x, float* y, float* z, uint8_t* valid) const override;
+  void points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const override;
 
  protected:
   double surface_range(const Vec3&) const override { return spec_.radius; }
 
  private:
+  template <typename Column>
+  void points(int v, Column column, int n, float* x, float* y, float* z, uint8_t* valid) const;
+
   double f_, cx_, cy_, half_fov_;
 };
 

@@ -42,4 +42,14 @@ void View::row_points(int v, float* x, float* y, float* z, uint8_t* valid) const
   }
 }
 
+void View::points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const {
+  for (int i = 0; i < n; ++i) {
+    Vec3 p = Vec3::Zero();
+    valid[i] = pixel_to_point(columns[i], v, p);
+    x[i] = static_cast<float>(p.x());
+    y[i] = static_cast<float>(p.y());
+    z[i] = static_cast<float>(p.z());
+  }
+}
+
 }  // namespace omniview

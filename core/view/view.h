@@ -36,6 +36,10 @@ class View {
   // Surface points of one output row, in float, for the map builder. Invalid pixels get
   // valid[i] = 0 and unspecified coordinates.
   virtual void row_points(int v, float* x, float* y, float* z, uint8_t* valid) const;
+  // The same for chosen columns of row v: outputs i = 0..n-1 for pixel (columns[i], v),
+  // bit for bit what row_points gives there. The adaptive builder samples sparse lattices
+  // and isolated exact pixels with it, and never pays for the rest of the row.
+  virtual void points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const;
 
  protected:
   explicit View(const ViewSpec& spec) : spec_(spec) {}
