@@ -2,8 +2,10 @@
 // constants and the vectorisable kernels. Not part of the public API.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <variant>
 #include <vector>
 
 #include "core/map/fusion_map.h"
@@ -73,6 +75,20 @@ template <typename Model>
     out_u[i] = u;
     out_v[i] = v;
     score[i] = ok ? du * du + dv * dv : kInvalid;
+  }
+}
+
+// Calls f(model) with the camera's concrete model, inlined into the caller. std::visit
+// would dispatch to an out-of-line function per model, compiled for the baseline target
+// only: inside an OMNIVIEW_MULTIVERSION function the projection loops then never got AVX2.
+template <size_t I = 0, typename F>
+[[gnu::always_inline]] inline void visit_model(const CameraModel& model, F&& f) {
+  if constexpr (I < std::variant_size_v<CameraModel>) {
+    if (model.index() == I) {
+      f(*std::get_if<I>(&model));
+    } else {
+      visit_model<I + 1>(model, f);
+    }
   }
 }
 

@@ -87,9 +87,9 @@ class BandBuilder {
     }
   }
 
-  // The 4x4 quarters of the blocks in refined_, each planned like a block.
+  // The blocks in refined_ on a lattice twice as fine: one biquadratic patch each, or
+  // else their 4x4 quarters, each planned like a block.
   void plan_refined_blocks() {
-    const int count = static_cast<int>(refined_.size());
     for (int o = 0; o < kFine; ++o) {  // new samples, one batch per lattice row
       const bool lattice_row = o % 2 == 0;
       fine_columns_.clear();
@@ -102,30 +102,30 @@ class BandBuilder {
       sampler_.sample(ya_ + kFineStep * o, fine_columns_.data(), static_cast<int>(fine_columns_.size()), fine_[o]);
     }
     const Winners* lattice_rows[3] = {&top_, &middle_, &bottom_};
-    for (int r = 0; r < count; ++r) {
+    for (size_t r = 0; r < refined_.size(); ++r) {
       const int j = refined_[r];
-      const int x_end = j + 2 == static_cast<int>(xs_.size()) ? xs_[j + 1] + 1 : xs_[j + 1];
-      for (int sy = 0; sy < 2; ++sy) {
-        for (int sx = 0; sx < 2; ++sx) {
-          BlockLattice b;
-          for (int i = 0; i < 3; ++i) {
-            b.x[i] = xs_[j] + kFineStep * (2 * sx + i);
-            b.y[i] = ya_ + kFineStep * (2 * sy + i);
+      FineLattice f;
+      for (int i = 0; i < kFine; ++i) f.x[i] = xs_[j] + kFineStep * i, f.y[i] = ya_ + kFineStep * i;
+      f.x_end = j + 2 == static_cast<int>(xs_.size()) ? xs_[j + 1] + 1 : xs_[j + 1];
+      f.y_end = row_end_;
+      for (int o = 0; o < kFine; ++o) {
+        for (int k = 0; k < kFine; ++k) {
+          if (o % 2 == 1) {
+            set_sample(f, o, k, fine_[o], kFine * r + k);
+          } else if (k % 2 == 1) {
+            set_sample(f, o, k, fine_[o], kNewOnLatticeRows * r + k / 2);
+          } else {
+            set_sample(f, o, k, *lattice_rows[o / 2], 2 * j + k / 2);
           }
-          b.x_end = sx ? x_end : b.x[2];
-          b.y_end = sy ? row_end_ : b.y[2];
-          for (int p = 0; p < 3; ++p) {
-            for (int i = 0; i < 3; ++i) {
-              const int o = 2 * sy + p, k = 2 * sx + i;
-              if (o % 2 == 1) {
-                set_sample(b, p, i, fine_[o], kFine * r + k);
-              } else if (k % 2 == 1) {
-                set_sample(b, p, i, fine_[o], kNewOnLatticeRows * r + k / 2);
-              } else {
-                set_sample(b, p, i, *lattice_rows[o / 2], 2 * j + k / 2);
-              }
-            }
-          }
+        }
+      }
+      if (try_quadratic(f, setups_, patches_)) {
+        used_[f.cam[0][0]] = 1;
+        continue;
+      }
+      for (int qy = 0; qy < 2; ++qy) {
+        for (int qx = 0; qx < 2; ++qx) {
+          const BlockLattice b = quarter(f, qy, qx);
           const BlockPlan plan = plan_block(b, setups_, Quarters::kNotAllowed, patches_);
           if (plan == BlockPlan::kExact) {
             add_exact(b);
@@ -139,7 +139,8 @@ class BandBuilder {
     }
   }
 
-  static void set_sample(BlockLattice& b, int p, int k, const Winners& w, size_t i) {
+  template <int N>
+  static void set_sample(Lattice<N>& b, int p, int k, const Winners& w, size_t i) {
     b.u[p][k] = w.u[i], b.v[p][k] = w.v[i], b.cam[p][k] = w.cam[i], b.on_surface[p][k] = w.on_surface[i];
   }
 

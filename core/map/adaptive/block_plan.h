@@ -1,10 +1,11 @@
-// Whether an output block may be interpolated from exact samples on a 3x3 lattice
-// (corners, edge midpoints, centre), and the bilinear patches that then cover it.
+// Whether an output block may be interpolated from exact samples on a lattice, and the
+// patches (patch.h) that then cover it.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "core/map/adaptive/patch.h"
 #include "core/map/map_kernels.h"
 
 namespace omniview::map_internal {
@@ -12,42 +13,21 @@ namespace omniview::map_internal {
 // The largest gap allowed between an interpolated source coordinate and the exact one.
 inline constexpr float kTolerancePx = 0.05f;
 
-// A block's exact winners on its lattice, [row][column].
-struct BlockLattice {
-  int x[3], y[3];    // lattice columns and rows; x[1], y[1] are the midpoints
+// Exact winners on a lattice of N x N samples over a block, [row][column].
+template <int N>
+struct Lattice {
+  int x[N], y[N];    // sample columns and rows, evenly spaced
   int x_end, y_end;  // the block's pixels: [x[0], x_end) x [y[0], y_end)
-  float u[3][3], v[3][3];
-  uint32_t cam[3][3];
-  bool on_surface[3][3];
+  float u[N][N], v[N][N];
+  uint32_t cam[N][N];
+  bool on_surface[N][N];
 };
-
-// Source coordinates bilinear over output pixels [x_begin, x_end) x [y_begin, y_end),
-// from exact values at the corners (x0, y0) ... (x1, y1).
-struct Patch {
-  int x0, x1, y0, y1;
-  float u00, u10, u01, u11, v00, v10, v01, v11;  // uXY: X = 0 left / 1 right, Y = 0 top / 1 bottom
-  int x_begin, x_end, y_begin, y_end;
-  uint32_t cam;
-
-  // Row y's pixels into u, v, cams, at index (output column - origin).
-  void fill_row(int y, float* __restrict u, float* __restrict v, uint32_t* __restrict cams, int origin = 0) const {
-    const float inv_w = 1.0f / static_cast<float>(x1 - x0), inv_h = 1.0f / static_cast<float>(y1 - y0);
-    const float ty = static_cast<float>(y - y0) * inv_h;
-    const float ul = u00 + (u01 - u00) * ty, ur = u10 + (u11 - u10) * ty;
-    const float vl = v00 + (v01 - v00) * ty, vr = v10 + (v11 - v10) * ty;
-    const float du = (ur - ul) * inv_w, dv = (vr - vl) * inv_w;
-    for (int x = x_begin; x < x_end; ++x) {
-      const float t = static_cast<float>(x - x0);
-      u[x - origin] = ul + du * t;
-      v[x - origin] = vl + dv * t;
-      cams[x - origin] = cam;
-    }
-  }
-};
+using BlockLattice = Lattice<3>;  // corners, edge midpoints, centre
+using FineLattice = Lattice<5>;   // a full 8x8 block every 2 pixels
 
 enum class BlockPlan {
-  kWhole,     // one patch: interpolation within kTolerancePx at every midpoint
-  kQuarters,  // four patches cornered at the lattice: within 4 kTolerancePx (error ~ size^2)
+  kWhole,     // one bilinear patch: within kTolerancePx at every midpoint
+  kQuarters,  // four bilinear patches cornered at the lattice: within 4 kTolerancePx (error ~ size^2)
   kBlack,     // off the view's surface at all nine samples (a fisheye view's corners)
   kExact,     // anything else: seams, coverage edges, masks, strong curvature
 };
@@ -61,5 +41,14 @@ enum class Quarters { kAllowed, kNotAllowed };
 // interpolated pixel must lie where its camera's mask (if any) allows it.
 BlockPlan plan_block(const BlockLattice& b, const std::vector<CameraSetup>& setups, Quarters quarters,
                      std::vector<Patch>& patches);
+
+// A block that curves too much for bilinear patches (a 360 deg fisheye view's outer rings)
+// is usually smooth: one biquadratic patch through the 3x3 lattice at offsets 0, 4, 8,
+// accepted where all 25 samples see the same camera and the 16 samples it does not pass
+// through lie within the tolerance. Appends the patch and returns true, or returns false.
+bool try_quadratic(const FineLattice& f, const std::vector<CameraSetup>& setups, std::vector<Patch>& patches);
+
+// Quarter (qy, qx) of a fine lattice's block, as a block of its own.
+BlockLattice quarter(const FineLattice& f, int qy, int qx);
 
 }  // namespace omniview::map_internal

@@ -45,24 +45,24 @@ OMNIVIEW_MULTIVERSION
 void write_patches(const std::vector<Patch>& patches, const std::vector<CameraSetup>& setups, FusionMap& map) {
   Floats lane;
   for (int i = 0; i < kLanes; ++i) lane[i] = static_cast<float>(i);
+  MapEntry* const entries = map.primary.data();
+  const size_t width = static_cast<size_t>(map.width);
   for (const Patch& p : patches) {
-    const SampleLimits& limits = setups[p.cam].limits;
-    const float inv_w = 1.0f / static_cast<float>(p.x1 - p.x0), inv_h = 1.0f / static_cast<float>(p.y1 - p.y0);
-    const int n = p.x_end - p.x_begin;
+    // Copies: the compiler cannot tell that the entries written do not overlap them.
+    const SampleLimits limits = setups[p.cam].limits;
+    const uint32_t cam = p.cam;
+    const int n = p.x_end - p.x_begin, first_t = p.x_begin - p.x0;
     for (int y = p.y_begin; y < p.y_end; ++y) {
-      // Patch::fill_row's arithmetic, so every path interpolates the same bits.
-      const float ty = static_cast<float>(y - p.y0) * inv_h;
-      const float ul = p.u00 + (p.u01 - p.u00) * ty, ur = p.u10 + (p.u11 - p.u10) * ty;
-      const float vl = p.v00 + (p.v01 - p.v00) * ty, vr = p.v10 + (p.v11 - p.v10) * ty;
-      const float du = (ur - ul) * inv_w, dv = (vr - vl) * inv_w;
-      MapEntry* out = &map.primary[static_cast<size_t>(y) * map.width + p.x_begin];
+      const Patch::Row r = p.row(y);  // Patch::fill_row's arithmetic, lane by lane
+      MapEntry* out = entries + static_cast<size_t>(y) * width + p.x_begin;
       for (int x = 0; x < n; x += kLanes) {
-        const Floats t = lane + static_cast<float>(p.x_begin + x - p.x0);
+        const Floats t = lane + static_cast<float>(first_t + x);
+        const Floats u = r.ua + t * (r.ub + t * r.uc), v = r.va + t * (r.vb + t * r.vc);
         if (n - x >= kLanes) {
-          encode8(limits, ul + du * t, vl + dv * t, p.cam, out + x);
+          encode8(limits, u, v, cam, out + x);
         } else {  // a patch's narrow remainder: encode all lanes, keep the ones inside
           MapEntry tail[kLanes];
-          encode8(limits, ul + du * t, vl + dv * t, p.cam, tail);
+          encode8(limits, u, v, cam, tail);
           std::memcpy(out + x, tail, (n - x) * sizeof(MapEntry));
         }
       }

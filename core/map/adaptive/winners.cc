@@ -1,6 +1,7 @@
 #include "core/map/adaptive/winners.h"
 
 #include <algorithm>
+#include <bit>
 
 #include "core/map/multiversion.h"
 
@@ -13,11 +14,12 @@ namespace {
                  const float* __restrict score, float* __restrict best, float* __restrict out_u,
                  float* __restrict out_v, uint32_t* __restrict out_cam) {
   for (int i = 0; i < n; ++i) {
-    const bool take = score[i] < best[i];
-    best[i] = take ? score[i] : best[i];
-    out_u[i] = take ? u[i] : out_u[i];
-    out_v[i] = take ? v[i] : out_v[i];
-    out_cam[i] = take ? cam : out_cam[i];
+    // Bit masks rather than ?: on floats, which GCC leaves as branches here.
+    const uint32_t take = 0u - static_cast<uint32_t>(score[i] < best[i]);
+    best[i] = score[i] < best[i] ? score[i] : best[i];
+    out_u[i] = std::bit_cast<float>((std::bit_cast<uint32_t>(u[i]) & take) | (std::bit_cast<uint32_t>(out_u[i]) & ~take));
+    out_v[i] = std::bit_cast<float>((std::bit_cast<uint32_t>(v[i]) & take) | (std::bit_cast<uint32_t>(out_v[i]) & ~take));
+    out_cam[i] = (cam & take) | (out_cam[i] & ~take);
   }
 }
 
@@ -26,10 +28,10 @@ namespace {
 OMNIVIEW_MULTIVERSION
 void compete(const CameraSetup& c, uint32_t cam, int n, RowScratch& s, float* best, float* out_u, float* out_v,
              uint32_t* out_cam) {
-  std::visit([&](const auto& model) {
+  visit_model(c.camera->model, [&](const auto& model) [[gnu::always_inline]] {
     project_row(model, c, n, s.x.data(), s.y.data(), s.z.data(), s.valid.data(), s.u.data(), s.v.data(),
                 s.score.data());
-  }, c.camera->model);
+  });
   if (!c.camera->mask.empty()) {
     for (int i = 0; i < n; ++i) {
       if (s.score[i] != kInvalid && !mask_allows(*c.camera, s.u[i], s.v[i])) s.score[i] = kInvalid;
