@@ -39,6 +39,42 @@ using Words = uint32_t __attribute__((vector_size(4 * kLanes)));
   std::memcpy(out + 4, &hi, sizeof(hi));
 }
 
+// Coordinates u = a + t (b + t c) per lane, encoded into `count` entries (<= kLanes).
+struct Lanes {
+  Floats ua, ub, uc, va, vb, vc, t;
+
+  static Lanes of(const Patch::Row& r, Floats t) {
+    const Floats zero{};
+    return {zero + r.ua, zero + r.ub, zero + r.uc, zero + r.va, zero + r.vb, zero + r.vc, t};
+  }
+  // Lanes 0-3 from `left`, 4-7 from `right`.
+  static Lanes join(const Lanes& l, const Lanes& r) {
+#define OMNIVIEW_HALVES(field) __builtin_shufflevector(l.field, r.field, 0, 1, 2, 3, 12, 13, 14, 15)
+    return {OMNIVIEW_HALVES(ua), OMNIVIEW_HALVES(ub), OMNIVIEW_HALVES(uc), OMNIVIEW_HALVES(va),
+            OMNIVIEW_HALVES(vb), OMNIVIEW_HALVES(vc), OMNIVIEW_HALVES(t)};
+#undef OMNIVIEW_HALVES
+  }
+
+  [[gnu::always_inline]] void write(const SampleLimits& limits, uint32_t cam, MapEntry* out, int count) const {
+    const Floats u = ua + t * (ub + t * uc), v = va + t * (vb + t * vc);
+    if (count == kLanes) {
+      encode8(limits, u, v, cam, out);
+    } else {  // a patch's narrow remainder: encode all lanes, keep the ones inside
+      MapEntry tail[kLanes];
+      encode8(limits, u, v, cam, tail);
+      std::memcpy(out, tail, count * sizeof(MapEntry));
+    }
+  }
+};
+
+// Two patches side by side over the same rows and camera, the left one 4 pixels wide (a
+// block's quarters): written as one 8-lane row instead of two half-empty ones.
+bool pairs(const Patch& left, const Patch& right) {
+  return left.x_end == right.x_begin && left.x_end - left.x_begin == kLanes / 2 &&
+         right.x_end - right.x_begin >= kLanes / 2 && left.y_begin == right.y_begin && left.y_end == right.y_end &&
+         left.cam == right.cam;
+}
+
 }  // namespace
 
 OMNIVIEW_MULTIVERSION
@@ -47,10 +83,26 @@ void write_patches(const std::vector<Patch>& patches, const std::vector<CameraSe
   for (int i = 0; i < kLanes; ++i) lane[i] = static_cast<float>(i);
   MapEntry* const entries = map.primary.data();
   const size_t width = static_cast<size_t>(map.width);
-  for (const Patch& p : patches) {
+  for (size_t i = 0; i < patches.size(); ++i) {
+    const Patch& p = patches[i];
     // Copies: the compiler cannot tell that the entries written do not overlap them.
     const SampleLimits limits = setups[p.cam].limits;
     const uint32_t cam = p.cam;
+    if (i + 1 < patches.size() && pairs(p, patches[i + 1])) {
+      const Patch& q = patches[++i];
+      const int q_rest = q.x_end - q.x_begin - kLanes / 2;  // the last block's extra column
+      for (int y = p.y_begin; y < p.y_end; ++y) {
+        MapEntry* out = entries + static_cast<size_t>(y) * width + p.x_begin;
+        const Patch::Row rq = q.row(y);
+        Lanes::join(Lanes::of(p.row(y), lane + static_cast<float>(p.x_begin - p.x0)),
+                    Lanes::of(rq, lane + static_cast<float>(q.x_begin - q.x0 - kLanes / 2)))
+            .write(limits, cam, out, kLanes);
+        if (q_rest > 0) {
+          Lanes::of(rq, lane + static_cast<float>(q.x_begin + kLanes / 2 - q.x0)).write(limits, cam, out + kLanes, q_rest);
+        }
+      }
+      continue;
+    }
     const int n = p.x_end - p.x_begin, first_t = p.x_begin - p.x0;
     for (int y = p.y_begin; y < p.y_end; ++y) {
       const Patch::Row r = p.row(y);  // Patch::fill_row's arithmetic, lane by lane
