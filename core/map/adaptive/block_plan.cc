@@ -6,17 +6,15 @@
 namespace omniview::map_internal {
 namespace {
 
-// The bilinear patch between lattice points (column a..b, row p..q) over the given pixels.
-inline Patch lattice_patch(const BlockLattice& s, int a, int b, int p, int q, int x_begin, int x_end, int y_begin,
-                    int y_end) {
-  Patch patch(s.x[a], s.x[b], s.y[p], s.y[q], x_begin, x_end, y_begin, y_end, s.cam[0][0], false);
-  for (int r : {0, 2}) {
-    for (int c : {0, 2}) {
-      patch.u[r][c] = s.u[r ? q : p][c ? b : a];
-      patch.v[r][c] = s.v[r ? q : p][c ? b : a];
-    }
-  }
-  return patch;
+// Appends the bilinear patch between lattice points (column a..b, row p..q) over the
+// given pixels. Built in place: a patch assembled on the stack and copied in cost more
+// than planning the block (store-forwarding stalls).
+inline void add_lattice_patch(const BlockLattice& s, int a, int b, int p, int q, int x_begin, int x_end, int y_begin,
+                              int y_end, std::vector<Patch>& patches) {
+  Patch& patch = patches.emplace_back(s.x[a], s.x[b], s.y[p], s.y[q], x_begin, x_end, y_begin, y_end, s.cam[0][0],
+                                      false);
+  patch.u[0][0] = s.u[p][a], patch.u[0][2] = s.u[p][b], patch.u[2][0] = s.u[q][a], patch.u[2][2] = s.u[q][b];
+  patch.v[0][0] = s.v[p][a], patch.v[0][2] = s.v[p][b], patch.v[2][0] = s.v[q][a], patch.v[2][2] = s.v[q][b];
 }
 
 // Largest gap between the whole-block interpolation and the exact midpoint samples (the
@@ -79,14 +77,14 @@ BlockPlan plan_block(const BlockLattice& s, const std::vector<CameraSetup>& setu
   BlockPlan plan;
   if (error <= kTolerancePx) {
     plan = BlockPlan::kWhole;
-    patches.push_back(lattice_patch(s, 0, 2, 0, 2, s.x[0], s.x_end, s.y[0], s.y_end));
+    add_lattice_patch(s, 0, 2, 0, 2, s.x[0], s.x_end, s.y[0], s.y_end, patches);
   } else if (quarters == Quarters::kAllowed && error <= 4 * kTolerancePx) {
     plan = BlockPlan::kQuarters;
     const int xm = s.x[1], ym = s.y[1];
-    patches.push_back(lattice_patch(s, 0, 1, 0, 1, s.x[0], xm, s.y[0], ym));
-    patches.push_back(lattice_patch(s, 1, 2, 0, 1, xm, s.x_end, s.y[0], ym));
-    patches.push_back(lattice_patch(s, 0, 1, 1, 2, s.x[0], xm, ym, s.y_end));
-    patches.push_back(lattice_patch(s, 1, 2, 1, 2, xm, s.x_end, ym, s.y_end));
+    add_lattice_patch(s, 0, 1, 0, 1, s.x[0], xm, s.y[0], ym, patches);
+    add_lattice_patch(s, 1, 2, 0, 1, xm, s.x_end, s.y[0], ym, patches);
+    add_lattice_patch(s, 0, 1, 1, 2, s.x[0], xm, ym, s.y_end, patches);
+    add_lattice_patch(s, 1, 2, 1, 2, xm, s.x_end, ym, s.y_end, patches);
   } else {
     return BlockPlan::kExact;
   }
@@ -101,7 +99,7 @@ bool try_quadratic(const FineLattice& f, const std::vector<CameraSetup>& setups,
       if (f.cam[p][k] != cam) return false;
     }
   }
-  Patch patch(f.x[0], f.x[4], f.y[0], f.y[4], f.x[0], f.x_end, f.y[0], f.y_end, cam, true);
+  Patch& patch = patches.emplace_back(f.x[0], f.x[4], f.y[0], f.y[4], f.x[0], f.x_end, f.y[0], f.y_end, cam, true);
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) patch.u[r][c] = f.u[2 * r][2 * c], patch.v[r][c] = f.v[2 * r][2 * c];
   }
@@ -115,11 +113,11 @@ bool try_quadratic(const FineLattice& f, const std::vector<CameraSetup>& setups,
       const float t = static_cast<float>(f.x[k] - f.x[0]);
       const float u = row.ua + t * (row.ub + t * row.uc), v = row.va + t * (row.vb + t * row.vc);
       if (!(std::abs(u - f.u[p][k]) <= kQuadraticTolerancePx && std::abs(v - f.v[p][k]) <= kQuadraticTolerancePx)) {
+        patches.pop_back();
         return false;
       }
     }
   }
-  patches.push_back(patch);
   return keep_if_unmasked(*setups[cam].camera, patches.size() - 1, patches);
 }
 
