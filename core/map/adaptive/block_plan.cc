@@ -15,6 +15,7 @@ inline void add_lattice_patch(const BlockLattice& s, int a, int b, int p, int q,
                                       false);
   patch.u[0][0] = s.u[p][a], patch.u[0][2] = s.u[p][b], patch.u[2][0] = s.u[q][a], patch.u[2][2] = s.u[q][b];
   patch.v[0][0] = s.v[p][a], patch.v[0][2] = s.v[p][b], patch.v[2][0] = s.v[q][a], patch.v[2][2] = s.v[q][b];
+  patch.finish();
 }
 
 // Largest gap between the whole-block interpolation and the exact midpoint samples (the
@@ -103,6 +104,7 @@ bool try_quadratic(const FineLattice& f, const std::vector<CameraSetup>& setups,
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) patch.u[r][c] = f.u[2 * r][2 * c], patch.v[r][c] = f.v[2 * r][2 * c];
   }
+  patch.finish();
   // The samples it does not pass through sit at a quarter of the block from its lattice
   // lines, where a cubic error (the leading term past a quadratic) reaches 0.974 of its
   // peak (at 0.211): measured against 0.97 of the tolerance, the peak is within it.

@@ -1,6 +1,7 @@
 // A patch of output pixels whose source coordinates are interpolated from exact samples:
 // bilinear from its four corners, or biquadratic from a 3x3 lattice (corners, edge
-// midpoints, centre) where a block curves too much for bilinear.
+// midpoints, centre) where a block curves too much for bilinear. Evaluated as polynomials
+// in the pixel offsets, so a row costs a few multiply-adds.
 #pragma once
 
 #include <cstdint>
@@ -25,12 +26,18 @@ struct Patch {
   uint32_t cam;
   bool quadratic;          // samples on the 3x3 lattice; else at the corners [0|2][0|2] only
   float u[3][3], v[3][3];  // [row][column]: row 0 at y0, 2 at y1; column 0 at x0, 2 at x1
-  float inv_w, inv_h;      // 1 / (x1 - x0), 1 / (y1 - y0): once per patch, not per row
+  // The same as polynomials: u = sum cu[i][j] t^i s^j, t = x - x0, s = y - y0 (finish()).
+  float cu[3][3], cv[3][3];
 
-  // u and v are left for the caller to fill (bilinear: the corners only).
+  // u and v are left for the caller to fill (bilinear: the corners only), then finish().
   Patch(int x0, int x1, int y0, int y1, int x_begin, int x_end, int y_begin, int y_end, uint32_t cam, bool quadratic)
       : x0(x0), x1(x1), y0(y0), y1(y1), x_begin(x_begin), x_end(x_end), y_begin(y_begin), y_end(y_end), cam(cam),
-        quadratic(quadratic), inv_w(reciprocal(x1 - x0)), inv_h(reciprocal(y1 - y0)) {}
+        quadratic(quadratic) {}
+
+  void finish() {
+    to_polynomial(u, cu);
+    to_polynomial(v, cv);
+  }
 
   // Along row y the coordinates are u = ua + t (ub + t uc), v likewise, t = x - x0.
   struct Row {
@@ -38,26 +45,9 @@ struct Patch {
   };
 
   Row row(int y) const {
-    const float ty = static_cast<float>(y - y0) * inv_h;
-    if (!quadratic) {
-      const float ul = u[0][0] + (u[2][0] - u[0][0]) * ty, ur = u[0][2] + (u[2][2] - u[0][2]) * ty;
-      const float vl = v[0][0] + (v[2][0] - v[0][0]) * ty, vr = v[0][2] + (v[2][2] - v[0][2]) * ty;
-      return Row{ul, (ur - ul) * inv_w, 0.0f, vl, (vr - vl) * inv_w, 0.0f};
-    }
-    // Lagrange weights of the rows at ty = 0, 1/2, 1; then the quadratic through the
-    // three columns' values, in powers of t.
-    const float w0 = 2 * (ty - 0.5f) * (ty - 1), w1 = -4 * ty * (ty - 1), w2 = 2 * ty * (ty - 0.5f);
-    Row r;
-    const auto along = [&](const float (&s)[3][3], float& a, float& b, float& c) {
-      float k[3];
-      for (int i = 0; i < 3; ++i) k[i] = w0 * s[0][i] + w1 * s[1][i] + w2 * s[2][i];
-      a = k[0];
-      b = (-3 * k[0] + 4 * k[1] - k[2]) * inv_w;
-      c = (2 * k[0] - 4 * k[1] + 2 * k[2]) * (inv_w * inv_w);
-    };
-    along(u, r.ua, r.ub, r.uc);
-    along(v, r.va, r.vb, r.vc);
-    return r;
+    const float s = static_cast<float>(y - y0);
+    const auto at = [s](const float (&c)[3]) { return c[0] + s * (c[1] + s * c[2]); };
+    return Row{at(cu[0]), at(cu[1]), at(cu[2]), at(cv[0]), at(cv[1]), at(cv[2])};
   }
 
   // Row y's pixels into u, v, at index (output column - origin).
@@ -68,6 +58,27 @@ struct Patch {
       out_u[x - origin] = r.ua + t * (r.ub + t * r.uc);
       out_v[x - origin] = r.va + t * (r.vb + t * r.vc);
     }
+  }
+
+ private:
+  // Coefficients of powers 0, 1, 2 of the interpolant through f0, f1, f2 at 0, h/2, h
+  // (linear: through f0 and f2), with inv = 1 / h.
+  void along(float f0, float f1, float f2, float inv, float (&c)[3]) const {
+    if (quadratic) {
+      c[0] = f0, c[1] = (-3 * f0 + 4 * f1 - f2) * inv, c[2] = (2 * f0 - 4 * f1 + 2 * f2) * (inv * inv);
+    } else {
+      c[0] = f0, c[1] = (f2 - f0) * inv, c[2] = 0;
+    }
+  }
+
+  // Along x within each sample row, then each power's coefficients along y.
+  void to_polynomial(const float (&nodes)[3][3], float (&c)[3][3]) const {
+    const float inv_w = reciprocal(x1 - x0), inv_h = reciprocal(y1 - y0);
+    float by_row[3][3] = {};  // [sample row][power of t]
+    for (int r = 0; r < 3; ++r) {
+      if (quadratic || r != 1) along(nodes[r][0], quadratic ? nodes[r][1] : 0.0f, nodes[r][2], inv_w, by_row[r]);
+    }
+    for (int i = 0; i < 3; ++i) along(by_row[0][i], by_row[1][i], by_row[2][i], inv_h, c[i]);
   }
 };
 

@@ -103,13 +103,26 @@ void write_patches(const std::vector<Patch>& patches, const std::vector<CameraSe
       }
       continue;
     }
-    const int n = p.x_end - p.x_begin, first_t = p.x_begin - p.x0;
+    const int n = p.x_end - p.x_begin;
+    const Floats t0 = lane + static_cast<float>(p.x_begin - p.x0);  // the patch's first 8 columns
     for (int y = p.y_begin; y < p.y_end; ++y) {
-      const Patch::Row r = p.row(y);  // Patch::fill_row's arithmetic, lane by lane
       MapEntry* out = entries + static_cast<size_t>(y) * width + p.x_begin;
+      // Patch::row's arithmetic; bilinear rows skip the zero quadratic terms.
+      Floats u, v;
+      if (!p.quadratic) {
+        const float s = static_cast<float>(y - p.y0);
+        const float ua = p.cu[0][0] + s * p.cu[0][1], ub = p.cu[1][0] + s * p.cu[1][1];
+        const float va = p.cv[0][0] + s * p.cv[0][1], vb = p.cv[1][0] + s * p.cv[1][1];
+        u = ua + t0 * ub, v = va + t0 * vb;
+        if (n == kLanes) {  // a whole 8x8 block: the common case
+          encode8(limits, u, v, cam, out);
+          continue;
+        }
+      }
+      const Patch::Row r = p.row(y);
       for (int x = 0; x < n; x += kLanes) {
-        const Floats t = lane + static_cast<float>(first_t + x);
-        const Floats u = r.ua + t * (r.ub + t * r.uc), v = r.va + t * (r.vb + t * r.vc);
+        const Floats t = t0 + static_cast<float>(x);
+        u = r.ua + t * (r.ub + t * r.uc), v = r.va + t * (r.vb + t * r.vc);
         if (n - x >= kLanes) {
           encode8(limits, u, v, cam, out + x);
         } else {  // a patch's narrow remainder: encode all lanes, keep the ones inside
