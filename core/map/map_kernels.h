@@ -78,16 +78,19 @@ template <typename Model>
   }
 }
 
-// Calls f(model) with the camera's concrete model, inlined into the caller. std::visit
-// would dispatch to an out-of-line function per model, compiled for the baseline target
-// only: inside an OMNIVIEW_MULTIVERSION function the projection loops then never got AVX2.
-template <size_t I = 0, typename F>
-[[gnu::always_inline]] inline void visit_model(const CameraModel& model, F&& f) {
+// project_row for the camera's concrete model, inlined into the caller. Not std::visit,
+// nor a lambda: both leave out-of-line functions compiled for the baseline target only,
+// so inside an OMNIVIEW_MULTIVERSION caller the projection never got AVX2.
+template <size_t I = 0>
+[[gnu::always_inline]] inline void project_camera_row(const CameraSetup& c, int n, const float* __restrict x,
+                                                      const float* __restrict y, const float* __restrict z,
+                                                      const uint8_t* __restrict valid, float* __restrict out_u,
+                                                      float* __restrict out_v, float* __restrict score) {
   if constexpr (I < std::variant_size_v<CameraModel>) {
-    if (model.index() == I) {
-      f(*std::get_if<I>(&model));
+    if (c.camera->model.index() == I) {
+      project_row(*std::get_if<I>(&c.camera->model), c, n, x, y, z, valid, out_u, out_v, score);
     } else {
-      visit_model<I + 1>(model, f);
+      project_camera_row<I + 1>(c, n, x, y, z, valid, out_u, out_v, score);
     }
   }
 }

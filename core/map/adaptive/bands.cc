@@ -31,7 +31,6 @@ class BandBuilder {
     const int blocks = static_cast<int>(xs_.size()) - 1;
     for (int j = 0; j < blocks; ++j) columns_.insert(columns_.end(), {xs_[j], (xs_[j] + xs_[j + 1]) / 2});
     columns_.push_back(xs_[blocks]);
-    for (Winners* w : {&top_, &middle_, &bottom_}) w->resize(columns_.size());
   }
 
   // `continues`: the previous band was built by this builder, so its bottom row is our top.
@@ -98,7 +97,6 @@ class BandBuilder {
           fine_columns_.push_back(xs_[j] + kFineStep * k);
         }
       }
-      fine_[o].resize(fine_columns_.size());
       sampler_.sample(ya_ + kFineStep * o, fine_columns_.data(), static_cast<int>(fine_columns_.size()), fine_[o]);
     }
     const Winners* lattice_rows[3] = {&top_, &middle_, &bottom_};
@@ -158,7 +156,6 @@ class BandBuilder {
       const std::vector<int>& columns = exact_columns_[y - ya_];
       if (columns.empty()) continue;
       const int n = static_cast<int>(columns.size());
-      exact_.resize(columns.size());
       sampler_.sample(y, columns.data(), n, exact_);
       MapEntry* row = entry(0, y);
       for (int i = 0; i < n; ++i) {
