@@ -10,10 +10,14 @@
 //     kTolerancePx of the exact ones (bilinear error peaks there for smooth maps; the
 //     midpoints catch saddle-shaped maps whose error cancels at the centre);
 //   - that camera's mask, if it has one, allows every interpolated pixel.
-// A full 8x8 block that fails is split into four 4x4 blocks on a lattice twice as fine,
-// each planned by the same rules (strong curvature, e.g. a 360 deg fisheye view's outer
-// rings, then still interpolates; a seam's block keeps exact pixels only where it must).
+// A full 8x8 block that fails gets a lattice twice as fine (5x5). Where all 25 samples
+// see one camera, one biquadratic patch through 9 of them may cover it if the other 16
+// are within the tolerance (strong curvature: a 360 deg fisheye view's outer rings);
+// else each 4x4 quarter is planned as a block, interpolated only where its own midpoints
+// are within the tolerance (a seam's block keeps exact pixels only where it must).
 // Every other pixel (seams, coverage edges, fisheye circles, masks) is computed exactly.
+// Patches are encoded straight into the map (patch_writer.h); lattice rows are shared by
+// consecutive bands; exact pixels of a row are projected as one batch (winners.h).
 // The image border needs no test: a bilinear patch whose corners lie inside the image
 // stays inside it. Near a seam an interpolated block may keep a camera whose neighbour
 // would win by a hair; both see the point, so the picture is the same.
