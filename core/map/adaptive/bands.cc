@@ -182,7 +182,7 @@ class BandBuilder {
   Winners top_, middle_, bottom_;  // exact winners on the band's lattice rows
   std::vector<Patch> patches_;
   std::vector<std::vector<int>> exact_columns_;  // per row of the band: pixels computed exactly
-  std::vector<int> refined_;                     // blocks split into quarters
+  std::vector<int> refined_;                     // blocks given the fine lattice
   std::vector<BlockLattice> black_;              // blocks off the view's surface
   std::vector<int> fine_columns_;
   Winners fine_[kFine];  // the split blocks' new samples, per row of their 5x5 lattice
