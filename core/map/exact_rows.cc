@@ -55,10 +55,8 @@ void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, 
     std::fill(rest.begin(), rest.end(), kNoRest);
     for (size_t ci = 0; ci < setups.size(); ++ci) {
       const CameraSetup& c = setups[ci];
-      std::visit([&](const auto& model) {
-        project_row(model, c, w, s.x.data(), s.y.data(), s.z.data(), s.valid.data(), s.u.data(), s.v.data(),
-                    s.score.data());
-      }, c.camera->model);
+      project_camera_row(c, w, s.x.data(), s.y.data(), s.z.data(), s.valid.data(), s.u.data(), s.v.data(),
+                         s.score.data());
       if (!c.camera->mask.empty()) {
         for (int i = 0; i < w; ++i) {
           if (s.score[i] != kInvalid && !mask_allows(*c.camera, s.u[i], s.v[i])) s.score[i] = kInvalid;

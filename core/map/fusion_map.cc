@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/gain/overlap_samples.h"
+#include "core/map/adaptive/bands.h"
 #include "core/map/footprint.h"
 #include "core/map/map_kernels.h"
 #include "core/map/usable_region.h"
@@ -135,10 +136,16 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
       mark_used(rows.start, rows.end);
     });
   } else {
-    const int bands = (map.height - 2) / kBlock + 1;  // grid rows 0, 8, ..., H-1 bound them
-    cv::parallel_for_(cv::Range(0, bands), [&](const cv::Range& range) {
+    // Runs of kBandsPerTask bands: a run shares lattice rows between its bands, and 16
+    // tasks for a 512-row view keep both threads busy to the end (OpenCV hands out tasks
+    // one by one; the fisheye view's middle rows cost more than its black corners).
+    constexpr int kBandsPerTask = 4;
+    const int bands = adaptive_band_count(map.height);
+    const int tasks = (bands + kBandsPerTask - 1) / kBandsPerTask;
+    cv::parallel_for_(cv::Range(0, tasks), [&](const cv::Range& range) {
       std::vector<uint8_t> local(cameras.size(), 0);
-      for (int band = range.start; band < range.end; ++band) build_band_adaptive(view, setups, map, band, local);
+      const int end = std::min(bands, range.end * kBandsPerTask);
+      build_bands_adaptive(view, setups, map, range.start * kBandsPerTask, end, local);
       for (size_t c = 0; c < local.size(); ++c) {
         if (local[c]) used[c].store(true, std::memory_order_relaxed);
       }

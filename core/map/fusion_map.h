@@ -78,7 +78,7 @@ struct FusionMap {
 };
 
 // kAdaptive (the default) evaluates the camera models exactly on an 8-pixel grid and
-// interpolates inside blocks where that is provably within 0.05 px (see adaptive_rows.cc);
+// interpolates inside blocks where that is provably within 0.05 px (see adaptive/bands.h);
 // kExact evaluates every pixel. Blend maps are always exact.
 enum class MapPrecision { kAdaptive, kExact };
 

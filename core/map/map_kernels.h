@@ -2,8 +2,10 @@
 // constants and the vectorisable kernels. Not part of the public API.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <variant>
 #include <vector>
 
 #include "core/map/fusion_map.h"
@@ -76,6 +78,23 @@ template <typename Model>
   }
 }
 
+// project_row for the camera's concrete model, inlined into the caller. Not std::visit,
+// nor a lambda: both leave out-of-line functions compiled for the baseline target only,
+// so inside an OMNIVIEW_MULTIVERSION caller the projection never got AVX2.
+template <size_t I = 0>
+[[gnu::always_inline]] inline void project_camera_row(const CameraSetup& c, int n, const float* __restrict x,
+                                                      const float* __restrict y, const float* __restrict z,
+                                                      const uint8_t* __restrict valid, float* __restrict out_u,
+                                                      float* __restrict out_v, float* __restrict score) {
+  if constexpr (I < std::variant_size_v<CameraModel>) {
+    if (c.camera->model.index() == I) {
+      project_row(*std::get_if<I>(&c.camera->model), c, n, x, y, z, valid, out_u, out_v, score);
+    } else {
+      project_camera_row<I + 1>(c, n, x, y, z, valid, out_u, out_v, score);
+    }
+  }
+}
+
 // A MapEntry's second word: fx, fy and cam in its low three bytes.
 inline uint32_t pack_rest(uint32_t fx, uint32_t fy, uint32_t cam) { return fx | (fy << 8) | (cam << 16); }
 inline const uint32_t kNoRest = pack_rest(0, 0, kNoCamera);
@@ -133,12 +152,7 @@ inline bool mask_allows(const Camera& c, float u, float v) {
 void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, bool blend, FusionMap& map,
                       int row_begin, int row_end);
 
-// Rows [band * kBlock, ...) of the nearest-centre policy, computed exactly on a grid every
-// kBlock pixels and interpolated inside blocks where that provably matches (see
-// adaptive_rows.cc); elsewhere exactly.
+// The adaptive builder's block size (adaptive/bands.h).
 inline constexpr int kBlock = 8;
-// Sets used[c] for every camera c the band reads.
-void build_band_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band,
-                         std::vector<uint8_t>& used);
 
 }  // namespace omniview::map_internal

@@ -34,22 +34,31 @@ bool FisheyeView::point_to_pixel(const Vec3& p, Vec2& uv) const {
   return in_image(uv);
 }
 
-void FisheyeView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+// Surface points of pixels (column(i), v), i < n: one body for row_points and points_at.
+template <typename Column>
+void FisheyeView::points(int v, Column column, int n, float* x, float* y, float* z, uint8_t* valid) const {
   const float inv_f = static_cast<float>(1 / f_), cx = static_cast<float>(cx_);
   const float oy = static_cast<float>((v - cy_) / f_);
   const float max_theta2 = static_cast<float>(std::min(half_fov_, M_PI) * std::min(half_fov_, M_PI));
   const float r = static_cast<float>(spec_.radius);
-  const int w = width();  // hoisted: `valid` may alias the spec, which would block SIMD
-  for (int u = 0; u < w; ++u) {
-    const float ox = (static_cast<float>(u) - cx) * inv_f;
+  for (int i = 0; i < n; ++i) {
+    const float ox = (static_cast<float>(column(i)) - cx) * inv_f;
     const float theta2 = ox * ox + oy * oy;
     float cos_theta, sinc_theta;
     fast::cos_and_sinc(theta2, cos_theta, sinc_theta);
-    x[u] = r * cos_theta;
-    y[u] = -r * ox * sinc_theta;
-    z[u] = -r * oy * sinc_theta;
-    valid[u] = theta2 <= max_theta2;
+    x[i] = r * cos_theta;
+    y[i] = -r * ox * sinc_theta;
+    z[i] = -r * oy * sinc_theta;
+    valid[i] = theta2 <= max_theta2;
   }
+}
+
+void FisheyeView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+  points(v, [](int i) { return i; }, width(), x, y, z, valid);
+}
+
+void FisheyeView::surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const {
+  points(v, [columns](int i) { return columns[i]; }, n, x, y, z, valid);
 }
 
 }  // namespace omniview

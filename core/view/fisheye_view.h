@@ -20,9 +20,14 @@ class FisheyeView : public View {
 
  protected:
   void surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const override;
+  void surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z,
+                         uint8_t* valid) const override;
   double surface_range(const Vec3&) const override { return spec_.radius; }
 
  private:
+  template <typename Column>
+  void points(int v, Column column, int n, float* x, float* y, float* z, uint8_t* valid) const;
+
   double f_, cx_, cy_, half_fov_;
 };
 

@@ -72,9 +72,10 @@ double PanoramaView::surface_range(const Vec3& d) const {
   return spec_.radius;
 }
 
-void PanoramaView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+// Surface points of pixels (column(i), v), i < n: one body for row_points and points_at.
+template <typename Column>
+void PanoramaView::points(int v, Column column, int n, float* x, float* y, float* z, uint8_t* valid) const {
   const double c = row_coordinate(v);
-  const int w = width();
   const float r = static_cast<float>(spec_.radius);
   float horizontal, vertical;
   if (spec_.type == ViewType::kCylindrical) {
@@ -85,12 +86,23 @@ void PanoramaView::surface_row_points(int v, float* x, float* y, float* z, uint8
     horizontal = static_cast<float>(spec_.radius * std::cos(phi));
     vertical = static_cast<float>(spec_.radius * std::sin(phi));
   }
-  for (int u = 0; u < w; ++u) {
-    x[u] = horizontal * cos_az_[u];
-    y[u] = horizontal * sin_az_[u];
-    z[u] = vertical;
-    valid[u] = 1;
+  const float* __restrict cos_az = cos_az_.data();
+  const float* __restrict sin_az = sin_az_.data();
+  for (int i = 0; i < n; ++i) {
+    const int u = column(i);
+    x[i] = horizontal * cos_az[u];
+    y[i] = horizontal * sin_az[u];
+    z[i] = vertical;
+    valid[i] = 1;
   }
+}
+
+void PanoramaView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+  points(v, [](int i) { return i; }, width(), x, y, z, valid);
+}
+
+void PanoramaView::surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const {
+  points(v, [columns](int i) { return columns[i]; }, n, x, y, z, valid);
 }
 
 }  // namespace omniview

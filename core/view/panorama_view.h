@@ -25,9 +25,13 @@ class PanoramaView : public View {
 
  protected:
   void surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const override;
+  void surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z,
+                         uint8_t* valid) const override;
   double surface_range(const Vec3& unit_dir) const override;
 
  private:
+  template <typename Column>
+  void points(int v, Column column, int n, float* x, float* y, float* z, uint8_t* valid) const;
   double azimuth(double u) const;
   // Elevation coordinate of row v: height on the unit-radius cylinder, or latitude.
   double row_coordinate(double v) const;

@@ -29,34 +29,44 @@ double PinholeView::surface_range(const Vec3& d) const {
   return descent > 1e-9 ? spec_.height_m / descent : -1;
 }
 
-void PinholeView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+// Surface points of pixels (column(i), v), i < n: one body for row_points and points_at,
+// so both give the same bits.
+template <typename Column>
+void PinholeView::points(int v, Column column, int n, float* x, float* y, float* z, uint8_t* valid) const {
   const float inv_f = static_cast<float>(1.0 / f_);
   const float dz = static_cast<float>(-(v - cy_) / f_);
   const float cx = static_cast<float>(cx_);
-  const int w = width();
   if (spec_.type == ViewType::kPerspective) {
     const float d = static_cast<float>(spec_.distance);
-    for (int u = 0; u < w; ++u) {
-      x[u] = d;
-      y[u] = -(static_cast<float>(u) - cx) * inv_f * d;
-      z[u] = dz * d;
-      valid[u] = 1;
+    for (int i = 0; i < n; ++i) {
+      x[i] = d;
+      y[i] = -(static_cast<float>(column(i)) - cx) * inv_f * d;
+      z[i] = dz * d;
+      valid[i] = 1;
     }
     return;
   }
   const float hx = static_cast<float>(down_in_view_.x()), hy = static_cast<float>(down_in_view_.y()),
               hz = static_cast<float>(down_in_view_.z());
   const float h = static_cast<float>(spec_.height_m);
-  for (int u = 0; u < w; ++u) {
-    const float dy = -(static_cast<float>(u) - cx) * inv_f;
+  for (int i = 0; i < n; ++i) {
+    const float dy = -(static_cast<float>(column(i)) - cx) * inv_f;
     const float descent = hx + dy * hy + dz * hz;  // dir = (1, dy, dz), not unit
     const bool hit = descent > 1e-6f;
     const float t = h / (hit ? descent : 1.0f);
-    x[u] = t;
-    y[u] = t * dy;
-    z[u] = t * dz;
-    valid[u] = hit;
+    x[i] = t;
+    y[i] = t * dy;
+    z[i] = t * dz;
+    valid[i] = hit;
   }
+}
+
+void PinholeView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+  points(v, [](int i) { return i; }, width(), x, y, z, valid);
+}
+
+void PinholeView::surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const {
+  points(v, [columns](int i) { return columns[i]; }, n, x, y, z, valid);
 }
 
 }  // namespace omniview

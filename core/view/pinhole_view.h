@@ -23,9 +23,14 @@ class PinholeView : public View {
 
  protected:
   void surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const override;
+  void surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z,
+                         uint8_t* valid) const override;
   double surface_range(const Vec3& unit_dir) const override;
 
  private:
+  template <typename Column>
+  void points(int v, Column column, int n, float* x, float* y, float* z, uint8_t* valid) const;
+
   double f_, cx_, cy_;
   Vec3 down_in_view_;  // the parent frame's -z expressed in the view frame (bird's-eye)
 };

@@ -72,4 +72,22 @@ void View::cut_at_ground(float& x, float& y, float& z) const {
   x *= scale, y *= scale, z *= scale;
 }
 
+void View::points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const {
+  surface_points_at(v, columns, n, x, y, z, valid);
+  if (!spec_.ground) return;
+  for (int i = 0; i < n; ++i) cut_at_ground(x[i], y[i], z[i]);
+}
+
+void View::surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const {
+  for (int i = 0; i < n; ++i) {
+    Vec3 dir = Vec3::Zero();
+    double range = 0;
+    valid[i] = pixel_to_direction(columns[i], v, dir) && (range = surface_range(dir.normalized())) > 0;
+    const Vec3 p = valid[i] ? Vec3(range * dir.normalized()) : Vec3::Zero();
+    x[i] = static_cast<float>(p.x());
+    y[i] = static_cast<float>(p.y());
+    z[i] = static_cast<float>(p.z());
+  }
+}
+
 }  // namespace omniview

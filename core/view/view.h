@@ -42,13 +42,20 @@ class View {
   // Surface points of one output row, in float, for the map builder. Invalid pixels get
   // valid[i] = 0 and unspecified coordinates.
   void row_points(int v, float* x, float* y, float* z, uint8_t* valid) const;
+  // The same for chosen columns of row v: outputs i = 0..n-1 for pixel (columns[i], v),
+  // bit for bit what row_points gives there. The adaptive builder samples sparse lattices
+  // and isolated exact pixels with it, and never pays for the rest of the row.
+  void points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const;
 
  protected:
   explicit View(const ViewSpec& spec);
   // Distance along the unit ray `dir` to the type's own surface; <= 0 where it misses.
   virtual double surface_range(const Vec3& unit_dir) const = 0;
-  // row_points of the type's own surface, before the ground cut (default: per pixel).
+  // row_points and points_at of the type's own surface, before the ground cut (default:
+  // per pixel).
   virtual void surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const;
+  virtual void surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z,
+                                 uint8_t* valid) const;
   bool in_image(const Vec2& uv) const {
     return uv.x() >= -0.5 && uv.y() >= -0.5 && uv.x() <= width() - 0.5 && uv.y() <= height() - 0.5;
   }

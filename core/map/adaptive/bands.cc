@@ -1,0 +1,200 @@
+#include "core/map/adaptive/bands.h"
+
+#include <algorithm>
+
+#include "core/map/adaptive/block_plan.h"
+#include "core/map/adaptive/patch_writer.h"
+#include "core/map/adaptive/winners.h"
+
+namespace omniview::map_internal {
+namespace {
+
+// Grid lines every kBlock pixels, plus the last pixel: 0, 8, ..., n - 1.
+std::vector<int> grid_lines(int n) {
+  std::vector<int> lines;
+  for (int i = 0; i < n - 1; i += kBlock) lines.push_back(i);
+  lines.push_back(n - 1);
+  return lines;
+}
+
+// A full block split in four has a 5x5 lattice: offsets 0, 2, 4, 6, 8 in both axes. Its
+// rows 0, 2, 4 are the band's lattice rows, which already hold columns 0, 4, 8.
+constexpr int kFine = 5;
+constexpr int kFineStep = kBlock / (kFine - 1);
+constexpr int kNewOnLatticeRows = 2;  // columns 2 and 6
+
+class BandBuilder {
+ public:
+  BandBuilder(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, std::vector<uint8_t>& used)
+      : setups_(setups), map_(map), used_(used), sampler_(view, setups), xs_(grid_lines(map.width)),
+        ys_(grid_lines(map.height)), exact_columns_(kBlock + 1) {
+    const int blocks = static_cast<int>(xs_.size()) - 1;
+    for (int j = 0; j < blocks; ++j) columns_.insert(columns_.end(), {xs_[j], (xs_[j] + xs_[j + 1]) / 2});
+    columns_.push_back(xs_[blocks]);
+  }
+
+  // `continues`: the previous band was built by this builder, so its bottom row is our top.
+  void build(int band, bool continues) {
+    ya_ = ys_[band], yb_ = ys_[band + 1], yc_ = (ya_ + yb_) / 2;
+    row_end_ = band + 2 == static_cast<int>(ys_.size()) ? yb_ + 1 : yb_;  // the last band owns row H-1
+    if (continues) {
+      std::swap(top_, bottom_);
+    } else {
+      sample_lattice_row(ya_, top_);
+    }
+    sample_lattice_row(yc_, middle_);
+    sample_lattice_row(yb_, bottom_);
+    patches_.clear(), refined_.clear(), black_.clear();
+    for (auto& c : exact_columns_) c.clear();
+    plan_blocks();
+    if (!refined_.empty()) plan_refined_blocks();
+    // Every pixel of the band once: interpolated, black or exact.
+    write_patches(patches_, setups_, map_);
+    for (const BlockLattice& b : black_) {
+      for (int y = b.y[0]; y < b.y_end; ++y) std::fill(entry(b.x[0], y), entry(b.x_end, y), kBlackEntry);
+    }
+    write_exact_rows();
+  }
+
+ private:
+  void sample_lattice_row(int y, Winners& out) {
+    sampler_.sample(y, columns_.data(), static_cast<int>(columns_.size()), out);
+  }
+
+  void plan_blocks() {
+    const Winners* rows[3] = {&top_, &middle_, &bottom_};
+    const int blocks = static_cast<int>(xs_.size()) - 1;
+    for (int j = 0; j < blocks; ++j) {
+      BlockLattice b;
+      for (int k = 0; k < 3; ++k) b.x[k] = columns_[2 * j + k];
+      b.y[0] = ya_, b.y[1] = yc_, b.y[2] = yb_;
+      b.x_end = j + 1 == blocks ? b.x[2] + 1 : b.x[2];
+      b.y_end = row_end_;
+      for (int p = 0; p < 3; ++p) {
+        for (int k = 0; k < 3; ++k) set_sample(b, p, k, *rows[p], 2 * j + k);
+      }
+      const BlockPlan plan = plan_block(b, setups_, Quarters::kAllowed, patches_);
+      if (plan == BlockPlan::kBlack) {
+        black_.push_back(b);
+      } else if (plan != BlockPlan::kExact) {
+        used_[b.cam[0][0]] = 1;
+      } else if (b.x[2] - b.x[0] == kBlock && b.y[2] - b.y[0] == kBlock) {
+        refined_.push_back(j);
+      } else {
+        add_exact(b);
+      }
+    }
+  }
+
+  // The blocks in refined_ on a lattice twice as fine: one biquadratic patch each, or
+  // else their 4x4 quarters, each planned like a block.
+  void plan_refined_blocks() {
+    for (int o = 0; o < kFine; ++o) {  // new samples, one batch per lattice row
+      const bool lattice_row = o % 2 == 0;
+      fine_columns_.clear();
+      for (int j : refined_) {
+        for (int k = lattice_row ? 1 : 0; k < kFine; k += lattice_row ? 2 : 1) {
+          fine_columns_.push_back(xs_[j] + kFineStep * k);
+        }
+      }
+      sampler_.sample(ya_ + kFineStep * o, fine_columns_.data(), static_cast<int>(fine_columns_.size()), fine_[o]);
+    }
+    const Winners* lattice_rows[3] = {&top_, &middle_, &bottom_};
+    for (size_t r = 0; r < refined_.size(); ++r) {
+      const int j = refined_[r];
+      FineLattice f;
+      for (int i = 0; i < kFine; ++i) f.x[i] = xs_[j] + kFineStep * i, f.y[i] = ya_ + kFineStep * i;
+      f.x_end = j + 2 == static_cast<int>(xs_.size()) ? xs_[j + 1] + 1 : xs_[j + 1];
+      f.y_end = row_end_;
+      for (int o = 0; o < kFine; ++o) {
+        for (int k = 0; k < kFine; ++k) {
+          if (o % 2 == 1) {
+            set_sample(f, o, k, fine_[o], kFine * r + k);
+          } else if (k % 2 == 1) {
+            set_sample(f, o, k, fine_[o], kNewOnLatticeRows * r + k / 2);
+          } else {
+            set_sample(f, o, k, *lattice_rows[o / 2], 2 * j + k / 2);
+          }
+        }
+      }
+      if (try_quadratic(f, setups_, patches_)) {
+        used_[f.cam[0][0]] = 1;
+        continue;
+      }
+      for (int qy = 0; qy < 2; ++qy) {
+        for (int qx = 0; qx < 2; ++qx) {
+          const BlockLattice b = quarter(f, qy, qx);
+          const BlockPlan plan = plan_block(b, setups_, Quarters::kNotAllowed, patches_);
+          if (plan == BlockPlan::kExact) {
+            add_exact(b);
+          } else if (plan == BlockPlan::kBlack) {
+            black_.push_back(b);
+          } else {
+            used_[b.cam[0][0]] = 1;
+          }
+        }
+      }
+    }
+  }
+
+  template <int N>
+  static void set_sample(Lattice<N>& b, int p, int k, const Winners& w, size_t i) {
+    b.u[p][k] = w.u[i], b.v[p][k] = w.v[i], b.cam[p][k] = w.cam[i], b.on_surface[p][k] = w.on_surface[i];
+  }
+
+  void add_exact(const BlockLattice& b) {
+    for (int y = b.y[0]; y < b.y_end; ++y) {
+      std::vector<int>& columns = exact_columns_[y - ya_];
+      for (int x = b.x[0]; x < b.x_end; ++x) columns.push_back(x);
+    }
+  }
+
+  MapEntry* entry(int x, int y) { return &map_.primary[static_cast<size_t>(y) * map_.width + x]; }
+
+  void write_exact_rows() {
+    for (int y = ya_; y < row_end_; ++y) {
+      const std::vector<int>& columns = exact_columns_[y - ya_];
+      if (columns.empty()) continue;
+      const int n = static_cast<int>(columns.size());
+      sampler_.sample(y, columns.data(), n, exact_);
+      MapEntry* row = entry(0, y);
+      for (int i = 0; i < n; ++i) {
+        const uint32_t cam = exact_.cam[i];
+        if (cam == kNoCamera) {
+          row[columns[i]] = kBlackEntry;
+          continue;
+        }
+        uint32_t rest;
+        const uint32_t offset = encode(setups_[cam].limits, exact_.u[i], exact_.v[i], cam, rest);
+        row[columns[i]] = make_entry(offset, rest);
+        used_[cam] = 1;
+      }
+    }
+  }
+
+  const std::vector<CameraSetup>& setups_;
+  FusionMap& map_;
+  std::vector<uint8_t>& used_;
+  WinnerSampler sampler_;
+  const std::vector<int> xs_, ys_;
+  std::vector<int> columns_;  // lattice columns: grid lines at even indices, midpoints at odd
+  int ya_ = 0, yc_ = 0, yb_ = 0, row_end_ = 0;
+  Winners top_, middle_, bottom_;  // exact winners on the band's lattice rows
+  std::vector<Patch> patches_;
+  std::vector<std::vector<int>> exact_columns_;  // per row of the band: pixels computed exactly
+  std::vector<int> refined_;                     // blocks given the fine lattice
+  std::vector<BlockLattice> black_;              // blocks off the view's surface
+  std::vector<int> fine_columns_;
+  Winners fine_[kFine];  // the split blocks' new samples, per row of their 5x5 lattice
+  Winners exact_;
+};
+
+}  // namespace
+
+void build_bands_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band_begin,
+                          int band_end, std::vector<uint8_t>& used) {
+  BandBuilder builder(view, setups, map, used);
+  for (int band = band_begin; band < band_end; ++band) builder.build(band, band > band_begin);
+}
+
+}  // namespace omniview::map_internal
