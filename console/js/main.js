@@ -46,14 +46,20 @@ function steeringFor(view) {
   return app.steering.get(view);
 }
 
-// The view that tap-to-look and the gamepad turn: a view named "ptz", else the first
-// perspective view on screen, else the first perspective view.
-function lookTarget() {
-  if (spec('ptz')) return 'ptz';
-  const shown = app.panes.map((p) => p.view).find((n) => spec(n) && spec(n).type === 'PERSPECTIVE');
+// The one view that the gamepad (sticks and A), tap-to-look and a double tap on the
+// bird's-eye steer: the first view on screen that is not a bird's-eye (in Split: front), so
+// what turns is in sight; else a view named "ptz"; else the first perspective view.
+function steerTarget() {
+  const shown = app.panes.map((p) => p.view).find((n) => spec(n) && spec(n).type !== 'BIRDSEYE');
   if (shown) return shown;
+  if (spec('ptz')) return 'ptz';
   const any = app.views.find((v) => v.spec.type === 'PERSPECTIVE');
   return any ? any.spec.name : null;
+}
+
+function recentre(target) {
+  const first = target && app.initial.get(target);
+  if (first) steeringFor(target).set({ yawDeg: first.yawDeg, pitchDeg: first.pitchDeg, hfovDeg: first.hfovDeg });
 }
 
 // The view of that name if there is one, else the first of that type, else the first.
@@ -62,11 +68,13 @@ function pickView(type, name) {
   return (app.views.find((v) => v.spec.type === type) || app.views[0] || { spec: {} }).spec.name;
 }
 
-function addPane(view, hint) {
+function addPane(view) {
   const s = spec(view);
   const birdseye = s && s.type === 'BIRDSEYE';
-  const pane = new Pane($('panes'), app.link, view,
-    { forceJpeg: app.forceJpeg, hint: hint || (birdseye ? 'tap: look there' : 'drag: pan/tilt · pinch/wheel: zoom · double tap: centre') });
+  // No steering hints for a viewer: its token cannot steer.
+  const hint = app.link.role === 'viewer' ? null
+    : birdseye ? 'tap: look there' : 'drag: pan/tilt · pinch/wheel: zoom · double tap: centre';
+  const pane = new Pane($('panes'), app.link, view, { forceJpeg: app.forceJpeg, hint });
   attachGestures(pane.el, {
     drag: (dx, dy) => {
       if (birdseye) return;
@@ -74,14 +82,10 @@ function addPane(view, hint) {
       steeringFor(view).add(dx * k, -dy * k);  // the picture follows the finger
     },
     zoom: (factor) => { if (s && ZOOMABLE.has(s.type)) steeringFor(view).add(0, 0, factor); },
-    recentre: () => {
-      const target = birdseye ? lookTarget() : view;
-      const first = target && app.initial.get(target);
-      if (first) steeringFor(target).set({ yawDeg: first.yawDeg, pitchDeg: first.pitchDeg, hfovDeg: first.hfovDeg });
-    },
+    recentre: () => recentre(birdseye ? steerTarget() : view),
     tap: (x, y) => {
       if (!birdseye) return;
-      const target = lookTarget();
+      const target = steerTarget();
       const pixel = pane.toImage(x, y);
       if (!target || !pixel) return;
       lookAt(app.link, view, pixel, target).then(
@@ -98,6 +102,7 @@ async function setLayout(layout, view) {
   for (const p of app.panes) p.stop();
   app.panes = [];
   if (app.cloud) { app.cloud.stop(); app.cloud = null; }
+  $('panes').replaceChildren();  // and any placeholder (Paper's missing backward camera)
   app.layout = layout;
   $('panes').className = layout;
   for (const b of document.querySelectorAll('#layouts button')) b.classList.toggle('active', b.dataset.layout === layout);
@@ -110,6 +115,8 @@ async function setLayout(layout, view) {
   } else {
     addPane(view || $('view-select').value || pickView('PERSPECTIVE', 'front'));
   }
+  // The dropdown names the main (first) pane's view, whatever the layout.
+  if (app.panes[0] && spec(app.panes[0].view)) $('view-select').value = app.panes[0].view;
   const url = new URL(location.href);
   url.searchParams.set('layout', layout);
   if (layout === 'single') url.searchParams.set('view', app.panes[0] ? app.panes[0].view : '');
@@ -234,21 +241,19 @@ async function main() {
   await loadViews();
   const params = new URLSearchParams(location.search);
   const view = params.get('view');
-  if (view && spec(view)) $('view-select').value = view;
+  // Single's view: the address's, else front (not whichever view the list has first).
+  $('view-select').value = view && spec(view) ? view : pickView('PERSPECTIVE', 'front');
   $('view-select').addEventListener('change', () => setLayout('single', $('view-select').value));
   for (const b of document.querySelectorAll('#layouts button')) b.addEventListener('click', () => setLayout(b.dataset.layout));
   $('snapshot').addEventListener('click', snapshot);
   await setLayout(params.get('layout') || 'single', view && spec(view) ? view : undefined);
   pollStatus();
   setInterval(pollStatus, 1000);
+  // Sticks and A act on the same view.
   new Gamepads((yaw, pitch, zoom) => {
-    const target = app.panes.map((p) => p.view).find((n) => spec(n) && spec(n).type !== 'BIRDSEYE') || lookTarget();
+    const target = steerTarget();
     if (target) steeringFor(target).add(yaw, pitch, ZOOMABLE.has((spec(target) || {}).type) ? zoom : 1);
-  }, () => {
-    const target = lookTarget();
-    const first = target && app.initial.get(target);
-    if (first) steeringFor(target).set({ yawDeg: first.yawDeg, pitchDeg: first.pitchDeg, hfovDeg: first.hfovDeg });
-  }).start();
+  }, () => recentre(steerTarget())).start();
 }
 
 main().catch((e) => {

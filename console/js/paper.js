@@ -9,18 +9,28 @@ export async function startPaper(app, addPane, toast, forwardName) {
   await cloud.start();
   addPane(forward.name);
   const back = await backwardView(app, forward, toast);
-  if (back) addPane(back);
+  if (back.view) addPane(back.view);
+  else missingPane(`No backward camera: ${back.why}`);
   return cloud;
 }
 
+// The backward pane's place when there is no backward view: says why, rather than grey.
+function missingPane(text) {
+  const el = document.createElement('div');
+  el.className = 'pane missing';
+  const message = document.createElement('p');
+  message.textContent = text;
+  el.append(message);
+  document.getElementById('panes').append(el);
+}
+
 // A view named back/rear if the daemon has one; else the forward view turned round,
-// created once (operators only).
+// created once (operators only). {view}, or {why} there is none.
 async function backwardView(app, forward, toast) {
   const known = app.views.find((v) => ['back', 'rear', BACK_VIEW].includes(v.spec.name));
-  if (known) return known.spec.name;
+  if (known) return { view: known.spec.name };
   if (app.link.role === 'viewer') {
-    toast('the backward camera needs a view named "back" (a viewer token cannot create one)');
-    return null;
+    return { why: `the robot has no view named "back", and only an operator's console can create one (${BACK_VIEW}).` };
   }
   const spec = { ...forward, name: BACK_VIEW, yawDeg: (forward.yawDeg || 0) + 180 };
   try {
@@ -30,10 +40,10 @@ async function backwardView(app, forward, toast) {
   } catch (e) {
     if (e.code !== 'ALREADY_EXISTS') {
       toast(`backward camera: ${e.message}`);
-      return null;
+      return { why: e.message };
     }
   }
-  return BACK_VIEW;
+  return { view: BACK_VIEW };
 }
 
 class CloudPanel {

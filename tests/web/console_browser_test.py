@@ -262,6 +262,7 @@ class ConsoleBrowserTest(unittest.TestCase):
         driver = self.open(VIEWER_TOKEN)
         self.wait_live(driver)
         self.assertIn("viewer", driver.find_element(By.ID, "role").text)
+        self.assertEqual(driver.find_elements(By.CSS_SELECTOR, ".pane .hint"), [], "no steering hints for a viewer")
         yaw0, _ = self.robot.yaw_pitch("front")
         pane = driver.find_element(By.CSS_SELECTOR, '.pane[data-view="front"]')
         ActionChains(driver).move_to_element(pane).click_and_hold().move_by_offset(150, 0).release().perform()
@@ -298,7 +299,15 @@ class ConsoleBrowserTest(unittest.TestCase):
         if ARGS.screenshot:
             driver.save_screenshot(str(Path(ARGS.screenshot).with_name("console_phone.png")))
 
+    def ptz_view(self):
+        """A view named ptz, off screen in Split: what the console once turned instead of front."""
+        self.robot.cli("views", "create", "--set", "name=ptz", "--set", "type=perspective", "--set", "source=spot",
+                       "--set", "width=64", "--set", "height=48", "--set", "yaw_deg=-30", "--set", "pitch_deg=10")
+        self.addCleanup(self.robot.cli, "views", "delete", "ptz")
+        return self.robot.yaw_pitch("ptz")
+
     def test_tap_on_the_birdseye_turns_the_front_view_there(self):
+        ptz = self.ptz_view()
         driver = self.open(OPERATOR_TOKEN, "?layout=split")
         self.wait_live(driver, "birdseye")
         self.wait_live(driver, "front")
@@ -314,6 +323,7 @@ class ConsoleBrowserTest(unittest.TestCase):
                                 seconds(5), "the front view turned left toward the tapped ground")
         self.assertLess(yaw, 70)
         self.assertGreater(pitch, 0, "looks down at the ground")
+        self.assertEqual(self.robot.yaw_pitch("ptz"), ptz, "the view on screen turned, not the hidden ptz")
         print(f"tap-to-look: front now yaw {yaw:.1f}, pitch {pitch:.1f}", file=sys.stderr)
 
     def test_paper_layout_cloud_and_backward_camera(self):
@@ -328,6 +338,44 @@ class ConsoleBrowserTest(unittest.TestCase):
         self.assertAlmostEqual(abs(yaw_back - self.robot.yaw_pitch("front")[0]), 180, delta=0.01)
         if ARGS.screenshot:
             driver.save_screenshot(str(Path(ARGS.screenshot).with_name("console_paper.png")))
+
+    def test_viewer_paper_says_why_there_is_no_backward_camera(self):
+        driver = self.open(VIEWER_TOKEN, "?layout=paper")
+        self.wait_live(driver, "front")
+        message = wait_until(lambda: driver.find_element(By.CSS_SELECTOR, ".pane.missing").text, seconds(5),
+                             "the backward pane's message")
+        self.assertIn("back", message)
+        self.assertIn("operator", message)
+        self.assertEqual(driver.find_elements(By.CSS_SELECTOR, ".pane .hint"), [])
+
+    def test_dropdown_names_the_main_pane(self):
+        # Single without a view in the address: front, not the list's first (birdseye).
+        driver = self.open(OPERATOR_TOKEN, "?layout=single")
+        self.wait_live(driver, "front")
+        select = lambda: driver.execute_script("return document.getElementById('view-select').value")
+        self.assertEqual(select(), "front")
+        driver.find_element(By.CSS_SELECTOR, '#layouts button[data-layout="split"]').click()
+        self.wait_live(driver, "birdseye")
+        self.assertEqual(select(), driver.execute_script("return omniviewConsole.panes[0].view"))
+
+    def test_phone_paper_labels_stay_readable(self):
+        driver = self.open(OPERATOR_TOKEN, "?layout=paper", width=390, height=844)
+        self.addCleanup(lambda: self.robot.cli("views", "delete", "console_back"))
+        self.wait_live(driver, "front")
+        self.wait_live(driver, "console_back")
+        self.assertEqual(driver.execute_script("return document.getElementById('view-select').value"), "front")
+        # No pane's hint covers its label (a hidden hint has an empty box).
+        overlaps = driver.execute_script("""
+            return [...document.querySelectorAll('.pane')].map((p) => {
+              const l = p.querySelector('.label'), h = p.querySelector('.hint');
+              if (!l || !h) return null;
+              const a = l.getBoundingClientRect(), b = h.getBoundingClientRect();
+              return b.width > 0 && a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom
+                ? p.dataset.view : null;
+            }).filter((v) => v);""")
+        self.assertEqual(overlaps, [])
+        if ARGS.screenshot:
+            driver.save_screenshot(str(Path(ARGS.screenshot).with_name("console_paper_phone.png")))
 
     def test_pinch_zooms_and_double_tap_recentres(self):
         driver = self.open(OPERATOR_TOKEN)
@@ -380,6 +428,7 @@ class ConsoleBrowserTest(unittest.TestCase):
         wait_until(lambda: not driver.find_element(By.ID, "banner").is_displayed(), seconds(15), "live again")
 
     def test_gamepad_steers(self):
+        ptz = self.ptz_view()
         driver = self.open(OPERATOR_TOKEN)
         self.wait_live(driver)
         yaw0, pitch0 = self.robot.yaw_pitch("front")
@@ -387,9 +436,15 @@ class ConsoleBrowserTest(unittest.TestCase):
         driver.execute_script("""
             const pad = {connected: true, axes: [-1, 0, 0, 0], buttons: []};
             navigator.getGamepads = () => [pad];
+            window.testPad = pad;
             setTimeout(() => { pad.axes[0] = 0; }, 500);""")
         wait_until(lambda: self.robot.yaw_pitch("front")[0] > yaw0 + 10, seconds(5), "the stick turning the view left")
         self.assertEqual(self.robot.yaw_pitch("front")[1], pitch0)
+        # A re-centres the view the stick steered (not the ptz view off screen).
+        time.sleep(0.3)  # the stick's last steps sent
+        driver.execute_script("testPad.buttons = [{value: 1}]; setTimeout(() => { testPad.buttons = []; }, 300);")
+        wait_until(lambda: abs(self.robot.yaw_pitch("front")[0] - yaw0) < 0.01, seconds(5), "A re-centring front")
+        self.assertEqual(self.robot.yaw_pitch("ptz"), ptz)
 
     def test_zz_daemon_survives_a_page_closed_mid_stream(self):
         driver = browser()

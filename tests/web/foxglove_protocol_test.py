@@ -116,7 +116,7 @@ class FoxgloveProtocolTest(unittest.TestCase):
                 image = Image.FromString(payload)
                 self.assertEqual(image.format, "jpeg")
                 self.assertEqual(image.data[:2], b"\xff\xd8")
-                self.assertEqual(image.frame_id, "front_optical")
+                self.assertEqual(image.frame_id, "view/front/optical")
                 self.assertEqual(stamp, image.timestamp.seconds * 10**9 + image.timestamp.nanos)
                 self.assertLess(abs(time.time() - stamp / 1e9), seconds(5), "capture time is now-ish")
                 Calibration = decoder(c.channels["/front/calibration"])
@@ -126,12 +126,54 @@ class FoxgloveProtocolTest(unittest.TestCase):
                 self.assertAlmostEqual(calibration.K[2], 159.5)
                 self.assertGreater(calibration.K[0], 50)
                 self.assertEqual(len(calibration.P), 12)
+                self.assertEqual(calibration.frame_id, image.frame_id)
                 Transforms = decoder(c.channels["/tf"])
                 tf = Transforms.FromString((await c.next(3, seconds(5)))[1])
                 children = {t.child_frame_id: t.parent_frame_id for t in tf.transforms}
-                self.assertEqual(children["front_optical"], "front")
-                self.assertIn("front", children)
+                self.assertEqual(children["view/front/optical"], "view/front")
+                self.assertIn("view/front", children)
                 self.assertIn("frontleft_fisheye", children)
+        run(go())
+
+    def test_a_view_named_like_a_robot_frame_keeps_its_transforms(self):
+        """Spot's rig has a frame `back`: a view `back` must not take its place in /tf, and
+        its images' and calibration's frame has a chain of transforms to the robot's root."""
+        async def go():
+            async with Client(self.url) as c:
+                Transforms = decoder(c.channels["/tf"])
+                await c.subscribe((20, "/tf"))
+                before = {t.child_frame_id: t.parent_frame_id
+                          for t in Transforms.FromString((await c.next(20, seconds(5)))[1]).transforms}
+                self.assertIn("back", before, "the rig has a frame named as the view")
+                self.robot.cli("views", "create", "--set", "name=back", "--set", "type=perspective",
+                               "--set", "source=spot", "--set", "width=64", "--set", "height=48")
+                try:
+                    new = None
+                    while not new:
+                        raw = await asyncio.wait_for(c.ws.recv(), seconds(5))
+                        if isinstance(raw, str) and json.loads(raw)["op"] == "advertise":  # /tf's are bytes
+                            new = {ch["topic"]: ch for ch in json.loads(raw)["channels"]}
+                    c.channels.update(new)
+                    await c.subscribe((21, "/back/image"), (22, "/back/calibration"))
+                    image = decoder(c.channels["/back/image"]).FromString((await c.next(21, seconds(15)))[1])
+                    calibration = decoder(c.channels["/back/calibration"]).FromString(
+                        (await c.next(22, seconds(5)))[1])
+                    tf = Transforms.FromString((await c.next(20, seconds(5)))[1])
+                finally:
+                    self.robot.cli("views", "delete", "back")
+                self.assertEqual(image.frame_id, "view/back/optical")
+                self.assertEqual(calibration.frame_id, image.frame_id)
+                parents = {t.child_frame_id: t.parent_frame_id for t in tf.transforms}
+                for child, parent in before.items():
+                    self.assertEqual(parents.get(child), parent, f"the robot's {child} keeps its parent")
+                self.assertEqual(parents["view/back/optical"], "view/back")
+                roots = set(parents.values()) - set(parents)
+                self.assertEqual(len(roots), 1, f"one tree: {roots}")
+                for frame in (image.frame_id, "view/front/optical", "view/birdseye/optical"):
+                    chain = [frame]
+                    while chain[-1] in parents and len(chain) < 50:
+                        chain.append(parents[chain[-1]])
+                    self.assertIn(chain[-1], roots, f"{frame} reaches the robot's root: {chain}")
         run(go())
 
     def test_video_starts_at_a_key_frame_and_decodes(self):
@@ -145,7 +187,7 @@ class FoxgloveProtocolTest(unittest.TestCase):
                     stamp, payload = await c.next(11, seconds(15))
                     video = Video.FromString(payload)
                     self.assertEqual(video.format, "h264")
-                    self.assertEqual(video.frame_id, "front_optical")
+                    self.assertEqual(video.frame_id, "view/front/optical")
                     self.assertEqual(stamp, video.timestamp.seconds * 10**9 + video.timestamp.nanos)
                     units.append(video.data)
                 self.assertEqual(units[0][:4], b"\0\0\0\1", "Annex-B")
@@ -174,12 +216,29 @@ class FoxgloveProtocolTest(unittest.TestCase):
                 await c.subscribe((7, "/spot/cloud"), (8, "/front/image"))
                 Cloud = decoder(c.channels["/spot/cloud"])
                 cloud = Cloud.FromString((await c.next(7, seconds(20)))[1])
-                names = [f.name for f in cloud.fields]
-                for n in ("x", "y", "z", "r", "g", "b"):
-                    self.assertIn(n, names)
-                self.assertEqual(cloud.point_stride, 17)
-                self.assertGreater(len(cloud.data), 1000 * 17)
+                fields = {f.name: (f.offset, f.type) for f in cloud.fields}
+                Field = cloud.fields[0].__class__
+                float32, uint8 = Field.NumericType.Value("FLOAT32"), Field.NumericType.Value("UINT8")
+                for n in ("x", "y", "z"):
+                    self.assertEqual(fields[n][1], float32, n)
+                # The names Foxglove's 3D panel colours points by (all four), beside the extras.
+                for n in ("red", "green", "blue", "alpha", "flags", "camera"):
+                    self.assertEqual(fields[n][1], uint8, n)
+                for n in ("r", "g", "b"):
+                    self.assertNotIn(n, fields)
+                self.assertEqual(cloud.point_stride, 18)
+                self.assertGreater(len(cloud.data), 1000 * 18)
                 self.assertEqual(len(cloud.data) % cloud.point_stride, 0)
+                alpha, flags = fields["alpha"][0], fields["flags"][0]
+                # Coloured points (flags bit 0) within a few clouds (the first may precede the images).
+                deadline = time.monotonic() + seconds(10)
+                while True:
+                    n = len(cloud.data) // cloud.point_stride
+                    self.assertTrue(all(cloud.data[i * 18 + alpha] == 255 for i in range(n)), "opaque points")
+                    if any(cloud.data[i * 18 + flags] & 1 for i in range(n)):
+                        break
+                    self.assertLess(time.monotonic(), deadline, "a cloud with coloured points")
+                    cloud = Cloud.FromString((await c.next(7, seconds(5)))[1])
                 # With the cloud streaming, the view still comes at the robot's rate.
                 t0 = time.monotonic()
                 n = 0

@@ -1,6 +1,7 @@
 #include "server/web/foxglove/foxglove_messages.h"
 
 #include <chrono>
+#include <cstring>
 #include <set>
 
 #include <Eigen/Geometry>
@@ -178,15 +179,38 @@ std::string point_cloud_prefix(const v1::PointCloud& cloud) {
                      : f.datatype() == v1::PointField::INT16 || f.datatype() == v1::PointField::UINT16 ? 2
                                                                                                   : 1;
     const uint32_t count = std::max<uint32_t>(1, f.count());
+    // Foxglove's colour fields by the names its 3D panel looks for.
+    const std::string name = f.name() == "r"   ? "red"
+                             : f.name() == "g" ? "green"
+                             : f.name() == "b" ? "blue"
+                                               : f.name();
     for (uint32_t i = 0; i < count; ++i) {
       auto* field = out.add_fields();
-      field->set_name(count == 1 ? f.name() : f.name() + std::to_string(i));
+      field->set_name(count == 1 ? name : name + std::to_string(i));
       field->set_offset(f.offset() + i * size);
       field->set_type(numeric_type(f.datatype()));
     }
   }
+  // Its "RGBA (separate fields)" colour mode wants all four: alpha is the byte appended.
+  auto* alpha = out.add_fields();
+  alpha->set_name("alpha");
+  alpha->set_offset(cloud.point_stride());
+  alpha->set_type(foxglove::PackedElementField::UINT8);
+  out.set_point_stride(cloud.point_stride() + 1);
   return out.SerializeAsString();
 }
+
+std::string foxglove_points(const v1::PointCloud& cloud) {
+  const size_t stride = cloud.point_stride();
+  const size_t n = stride ? cloud.data().size() / stride : 0;
+  std::string out(n * (stride + 1), static_cast<char>(0xff));
+  for (size_t i = 0; i < n; ++i) std::memcpy(out.data() + i * (stride + 1), cloud.data().data() + i * stride, stride);
+  return out;
+}
+
+std::string view_frame(const std::string& view) { return "view/" + view; }
+
+std::string view_optical_frame(const std::string& view) { return "view/" + view + "/optical"; }
 
 std::string frame_transforms(Pipeline& pipeline) {
   foxglove::FrameTransforms out;
@@ -214,15 +238,15 @@ std::string frame_transforms(Pipeline& pipeline) {
   R_view_optical << 0, 0, 1, -1, 0, 0, 0, -1, 0;
   const Eigen::Quaterniond q_optical(R_view_optical);
   for (const auto& view : pipeline.list_views()) {
-    const std::string& name = view.spec().name();
-    if (!done.insert(name).second) continue;
+    const std::string frame = view_frame(view.spec().name());
+    if (!done.insert(frame).second) continue;
     const auto& p = view.pose();
     const double norm = p.qw() * p.qw() + p.qx() * p.qx() + p.qy() * p.qy() + p.qz() * p.qz();
     if (view.robot_frame().empty() || !(norm > 0)) continue;  // not posed yet
-    add_transform(out, stamp, view.robot_frame(), name,
+    add_transform(out, stamp, view.robot_frame(), frame,
                   {p.translation().x(), p.translation().y(), p.translation().z()},
                   Eigen::Quaterniond(p.qw(), p.qx(), p.qy(), p.qz()).normalized());
-    add_transform(out, stamp, name, name + "_optical", Eigen::Vector3d::Zero(), q_optical);
+    add_transform(out, stamp, frame, view_optical_frame(view.spec().name()), Eigen::Vector3d::Zero(), q_optical);
   }
   return out.SerializeAsString();
 }

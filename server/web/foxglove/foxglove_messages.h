@@ -30,8 +30,17 @@ std::string compressed_image_prefix(const v1::Frame& frame, const std::string& f
 std::string compressed_video_prefix(const v1::Frame& frame, const std::string& frame_id);
 // Empty when the view is not a pinhole camera (panoramas, fisheye).
 std::string camera_calibration(const v1::Frame& frame, const std::string& frame_id);
+// Foxglove colours points from fields named red, green, blue and alpha: the packed layout's
+// r, g, b are renamed and an alpha byte (255) follows each point (foxglove_points).
 std::string point_cloud_prefix(const v1::PointCloud& cloud);
-// Every source's rig frames, every view's frame and its optical frame ("<view>_optical").
+std::string foxglove_points(const v1::PointCloud& cloud);
+
+// A view's frame and its optical frame (which its images and calibration name). The "view/"
+// prefix keeps them apart from the robot's frames (a view named `back` beside Spot's `back`),
+// and view names hold no '/', so no view's frames collide with another's.
+std::string view_frame(const std::string& view);
+std::string view_optical_frame(const std::string& view);
+// Every source's rig frames, every view's frame and its optical frame under it.
 std::string frame_transforms(Pipeline& pipeline);
 
 uint64_t time_ns(const google::protobuf::Timestamp& t);

@@ -207,7 +207,8 @@ void FoxgloveProtocol::start(uint32_t id, uint32_t channel_id) {
     release = [&pipeline = context_.pipeline, view = channel.target, subscriber] {
       pipeline.unsubscribe(view, subscriber.get());
     };
-    source = subscriber_source(subscriber, foxglove_io::frame_data(id, channel.kind, channel.target + "_optical"),
+    const std::string frame_id = foxglove_io::view_optical_frame(channel.target);
+    source = subscriber_source(subscriber, foxglove_io::frame_data(id, channel.kind, frame_id),
                                foxglove_io::ended_status<Subscriber>(connection_, channel.topic));
   } else if (channel.kind == Kind::kCloud) {
     v1::CloudOptions options;
