@@ -238,15 +238,12 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
       uint8_t* valid = pass.valid.data();
       const float* u = pass.u.data();
       const float* v = pass.v.data();
-      pass.seen.clear();
-      pass.seen.reserve(n);
       for (size_t i = 0; i < n; ++i) {
         if (!valid[i]) continue;
         if (!s.all_usable && (valid[i] & 1) &&
             s.usable.at<uint8_t>(static_cast<int>(v[i] + 0.5f), static_cast<int>(u[i] + 0.5f)) == 0) {
           valid[i] &= 2;  // masked out or past the lens' field: no colour, but still a surface
         }
-        if (valid[i] & 1) pass.seen.push_back(static_cast<uint32_t>(i));
         if (options.occlusion) {
           const float cx = u[i] * pass.inv_cell + pass.offset, cy = v[i] * pass.inv_cell + pass.offset;
           if (cx >= 0.f && cy >= 0.f && cx < cols && cy < rows) {

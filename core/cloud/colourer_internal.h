@@ -27,7 +27,6 @@ struct CloudColourer::CameraPass {
   bool active = false;
   std::vector<float> u, v, range;
   std::vector<uint8_t> valid;  // bit 1: the model images the point; bit 0: a usable pixel too
-  std::vector<uint32_t> seen;  // the points with valid bit 0, ascending
   float inv_cell = 1, offset = 0;
   cv::Mat depth, up, down, left, right, occluder;
 };

@@ -17,8 +17,7 @@ std::chrono::system_clock::time_point vlp16_packet_time(uint32_t us_past_hour, s
 
 std::chrono::system_clock::duration LidarClock::offset() const { return std::min(min_current_, min_previous_); }
 
-LidarClock::TimePoint LidarClock::to_local(uint32_t us_past_hour, TimePoint received) {
-  const TimePoint lidar = vlp16_packet_time(us_past_hour, received);
+LidarClock::TimePoint LidarClock::to_local(TimePoint lidar, TimePoint received) {
   const auto late = received - lidar;  // network latency, plus the clocks' difference
   if (!started_ || received - window_start_ >= 2 * kWindow || received < window_start_) {
     // First packet, or a gap (or our clock stepped back): start afresh.

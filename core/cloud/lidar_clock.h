@@ -23,8 +23,9 @@ class LidarClock {
   static constexpr std::chrono::milliseconds kSyncedWithin{50};
   static constexpr std::chrono::seconds kWindow{1};
 
-  // The packet's time on the daemon's clock.
-  TimePoint to_local(uint32_t us_past_hour, TimePoint received);
+  // The packet's time on the daemon's clock; `lidar`: its own time placed in an hour
+  // (vlp16_packet_time below).
+  TimePoint to_local(TimePoint lidar, TimePoint received);
 
   // After at least one packet: whether the lidar's own clock agrees with ours, and how far
   // its times are moved (zero when synchronised).

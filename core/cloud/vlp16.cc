@@ -76,7 +76,7 @@ std::vector<PointCloud> Vlp16Assembler::add_packet(const uint8_t* data, size_t s
   // Times within a rotation come from the lidar's own clock, whose differences are exact;
   // only the rotation's stamp is moved onto ours (lidar_clock.h).
   const auto packet_time = vlp16_packet_time(us, received);
-  const auto correction = clock_.to_local(us, received) - packet_time;
+  const auto correction = clock_.to_local(packet_time, received) - packet_time;
   ++packets_;
 
   std::vector<PointCloud> done;

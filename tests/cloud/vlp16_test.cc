@@ -74,7 +74,7 @@ TEST(LidarClock, ASynchronisedLidarKeepsItsOwnTimes) {
   using namespace std::chrono;
   LidarClock clock;
   for (const auto& p : packets_from(Clock::now(), microseconds(0), 2000)) {
-    const auto t = clock.to_local(p.us_past_hour, p.received);
+    const auto t = clock.to_local(vlp16_packet_time(p.us_past_hour, p.received), p.received);
     ASSERT_LT(abs(duration_cast<microseconds>(t - p.sent)).count(), 1) << "the lidar's time, not the arrival";
   }
   EXPECT_TRUE(clock.synchronised());
@@ -91,7 +91,7 @@ TEST(LidarClock, AFreeRunningLidarIsMovedOntoOurClock) {
   const auto behind = minutes(17) + milliseconds(3250);
   int k = 0;
   for (const auto& p : packets_from(start, behind, 3000)) {
-    const auto t = clock.to_local(p.us_past_hour, p.received);
+    const auto t = clock.to_local(vlp16_packet_time(p.us_past_hour, p.received), p.received);
     if (++k > 10) ASSERT_LT(abs(duration_cast<microseconds>(t - p.sent)).count(), 300) << "packet " << k;
   }
   EXPECT_FALSE(clock.synchronised());
@@ -99,7 +99,7 @@ TEST(LidarClock, AFreeRunningLidarIsMovedOntoOurClock) {
   // The lidar restarts: its clock is now 2 s behind ours; within two windows all is well.
   k = 0;
   for (const auto& p : packets_from(start + seconds(10), seconds(2), 3000)) {
-    const auto t = clock.to_local(p.us_past_hour, p.received);
+    const auto t = clock.to_local(vlp16_packet_time(p.us_past_hour, p.received), p.received);
     if (p.sent > start + seconds(10) + 2 * LidarClock::kWindow) {
       ASSERT_LT(abs(duration_cast<microseconds>(t - p.sent)).count(), 300) << "packet " << k;
     }
