@@ -31,9 +31,9 @@ std::string describe(const FormatOption& o) {
 }
 
 std::string describe(const std::vector<FormatOption>& options) {
-  if (options.empty()) return "  (nothing)";
+  if (options.empty()) return "(nothing)";
   std::string s;
-  for (const auto& o : options) s += (s.empty() ? "  " : "\n  ") + describe(o);
+  for (const auto& o : options) s += (s.empty() ? "" : ", ") + describe(o);  // one line: status shows one
   return s;
 }
 
@@ -67,7 +67,7 @@ CaptureFormat choose_format(const std::vector<FormatOption>& offers, const Forma
     if (request.aspect > 0) wanted += " (width:height " + std::to_string(request.aspect).substr(0, 4) + ":1)";
     if (request.fps > 0) wanted += " @ " + std::to_string(request.fps).substr(0, 5) + " fps";
     throw DeviceError(DeviceFault::kNoFormat,
-                      device + " offers no " + wanted + "; it offers:\n" + describe(offers));
+                      device + " offers no " + wanted + "; it offers: " + describe(offers));
   }
   CaptureFormat chosen{best->pixel_format, best->width, best->height, 0, 0};
   chosen.fps = request.fps > 0 ? request.fps

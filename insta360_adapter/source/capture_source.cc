@@ -256,7 +256,10 @@ bool CaptureSource::deliver(const CapturedFrame& frame, const CaptureFormat& for
     counters_.lens_circles = std::move(reports);
     last_lens_check_ = Clock::now();
     if (!warning.empty()) {
-      health_.message = "calibration off: " + warning + " (see 'insta360-lens-check --fit')";
+      const std::string message = "calibration off: " + warning + " (see 'insta360-lens-check --fit')";
+      // Into the log too, once per change: a headless robot's journal should show it.
+      if (health_.message != message) std::cerr << "omniviewd: source '" << name() << "': " << message << std::endl;
+      health_.message = message;
     }
   }
   if (!any_wanted) return false;

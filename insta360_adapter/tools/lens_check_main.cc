@@ -37,7 +37,8 @@ int main(int argc, char** argv) {
       std::cerr << "usage: insta360-lens-check --frame FRAME.jpg [--calibration FILE.yaml] [--fit OUT.yaml]\n"
                    "  Compares each lens' image circle with the calibration (default: the built-in nominal\n"
                    "  Insta360 Air calibration); --fit writes the calibration with the principal points\n"
-                   "  moved onto the circle centres (our rig YAML).\n";
+                   "  moved onto the circle centres (our rig YAML).\n"
+                   "  Exit status: 0 fine (or --fit written), 3 a lens more than 3 px off, 1 an error.\n";
       return a == "--help" || a == "-h" ? 0 : 2;
     }
   }
@@ -54,11 +55,12 @@ int main(int argc, char** argv) {
     const cv::Mat image = decoder.decode(bytes.data(), bytes.size());
     const auto crops = side_by_side(calibration);
     check_crops(calibration, crops, image.size());
-    bool all_found = true;
+    bool all_found = true, any_off = false;
     for (const auto& crop : crops) {
       const LensCircleReport r = check_lens_circle(*calibration.find(crop.camera), image, crop.rect);
       std::cout << describe(r) << "\n";
       all_found = all_found && r.found;
+      any_off = any_off || (r.found && r.offset_px > kLensOffsetWarnPx);
     }
     if (!fit_file.empty()) {
       if (!all_found) throw std::runtime_error("not every lens circle was found: nothing written");
@@ -71,8 +73,10 @@ int main(int argc, char** argv) {
       }
       save_rig_yaml(fixed, fit_file);
       std::cout << "wrote " << fit_file << " (give it to the source as `calibration:`)\n";
+      return 0;
     }
-    return 0;
+    // For scripts: 3 when a lens sits further off than the daemon warns about.
+    return any_off ? 3 : 0;
   } catch (const std::exception& e) {
     std::cerr << "insta360-lens-check: " << e.what() << "\n";
     return 1;

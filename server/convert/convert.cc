@@ -230,12 +230,18 @@ std::vector<double> pinhole_intrinsics(const View& view) {
 
 namespace {
 
-// What a camera images along the line through its image centre (`horizontal`: the middle
-// row, else the middle column): the off-axis angles of the outermost usable pixels on each
+// What a camera images along the row (`horizontal`) or column through its optical axis'
+// pixel: the off-axis angles of the outermost usable pixels on each
 // side, added, so a 210 deg fisheye whose circle fits the image says 210. Usable: the model
 // has a ray there, within the lens' fov_deg, inside the mask.
 double imaged_angle_deg(const Camera& c, bool horizontal) {
-  const double cu = (c.width - 1) / 2.0, cv = (c.height - 1) / 2.0;
+  // Along the lines through the optical axis' pixel: the image centre for most cameras,
+  // but a lens that is one half of a shared frame (the Insta360 Air's) sits off it.
+  double cu = (c.width - 1) / 2.0, cv = (c.height - 1) / 2.0;
+  if (Eigen::Vector2d axis; project(c.model, Eigen::Vector3d(0, 0, 1), axis) && axis.x() >= 0 && axis.y() >= 0 &&
+                            axis.x() <= c.width - 1 && axis.y() <= c.height - 1) {
+    cu = axis.x(), cv = axis.y();
+  }
   const double limit = c.fov_deg > 0 ? c.fov_deg / 2 * M_PI / 180 : M_PI;
   const int n = horizontal ? c.width : c.height;
   double before = 0, after = 0;  // the largest off-axis angle left/above and right/below of the centre

@@ -176,6 +176,10 @@ TEST_F(AirDaemon, StatusAndCamerasLikeAnyOtherSource) {
   for (const auto& c : listed.cameras()) {
     EXPECT_FALSE(c.calibration_warning()) << c.name() << ": " << c.calibration_check();
     EXPECT_NE(c.calibration_check().find(" px from the principal point"), std::string::npos) << c.calibration_check();
+    // Each lens is half of the shared frame, its axis off the frame's centre: its field is
+    // measured through the axis, a 210 deg fisheye both ways (it read 105 x 0).
+    EXPECT_NEAR(c.hfov_deg(), 210, 3) << c.name();
+    EXPECT_NEAR(c.vfov_deg(), 210, 3) << c.name();
   }
   // No warning in the status either.
   v1::Status s;
