@@ -102,8 +102,10 @@ void Pipeline::update_wanted_cameras(const std::string& source) {
       if (state->map->camera_used[i]) wanted[i] = sees_any = true;
     }
     // A view no camera sees still gets its (black) frames, each saying coverage 0, at the
-    // source's pace: image sets must keep coming, so one camera is asked for.
-    if (!sees_any && !wanted.empty()) wanted[0] = true;
+    // source's pace: image sets must keep coming, so one camera is asked for. Not while its
+    // map is still the one of an older rig (a robot that just connected): that map knows
+    // no cameras, and the rebuild says which ones it needs.
+    if (!sees_any && state->rig == r && !wanted.empty()) wanted[0] = true;
     const auto sampling = camera_sampling(*state->map);
     for (size_t i = 0; i < spacing.size() && i < sampling.size(); ++i) take_finest(i, sampling[i]);
   }
