@@ -142,8 +142,12 @@ class FoxgloveProtocolTest(unittest.TestCase):
             async with Client(self.url) as c:
                 Transforms = decoder(c.channels["/tf"])
                 await c.subscribe((20, "/tf"))
-                before = {t.child_frame_id: t.parent_frame_id
-                          for t in Transforms.FromString((await c.next(20, seconds(5)))[1]).transforms}
+                # /tf comes once a second; the robot's frames once the daemon has its rig (under a
+                # sanitizer the login may still be under way when the test starts).
+                before, deadline = {}, time.monotonic() + seconds(15)
+                while "back" not in before and time.monotonic() < deadline:
+                    before = {t.child_frame_id: t.parent_frame_id
+                              for t in Transforms.FromString((await c.next(20, seconds(5)))[1]).transforms}
                 self.assertIn("back", before, "the rig has a frame named as the view")
                 self.robot.cli("views", "create", "--set", "name=back", "--set", "type=perspective",
                                "--set", "source=spot", "--set", "width=64", "--set", "height=48")
