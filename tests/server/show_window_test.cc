@@ -8,8 +8,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -67,17 +69,21 @@ TEST(ShowWindow, KeysDragAndWheelSteerTheView) {
   ASSERT_TRUE(eventually([&] { return run_process(x + "xdotool getdisplaygeometry").exit_code == 0; }, std::chrono::milliseconds(static_cast<int64_t>(5000 * test_time_scale()))));
   ChildProcess show({"env", "-u", "WAYLAND_DISPLAY", "DISPLAY=" + display, OMNIVIEW_CLI, "show", "front", "--server",
                      daemon_.address()});
+  // The window the first frame sized: only then does it take the mouse where the test
+  // points. HighGUI may make and drop windows of that name while it starts, so every
+  // match is asked, each time, until one has the frame's size.
   std::string window;
   ASSERT_TRUE(eventually([&] {
-    const auto r = run_process(x + "xdotool search --name 'omniview: front'");
-    window = r.output.substr(0, r.output.find('\n'));
-    return r.exit_code == 0 && !window.empty();
-  }, std::chrono::milliseconds(static_cast<int64_t>(10000 * test_time_scale()))));
-  // The first frame sizes the window: only then does it take the mouse where the test points.
-  ASSERT_TRUE(eventually([&] {
-    return run_process(x + "xdotool getwindowgeometry " + window).output.find("320x160") != std::string::npos;
-  }, std::chrono::milliseconds(static_cast<int64_t>(10000 * test_time_scale()))))
-      << run_process(x + "xdotool getwindowgeometry " + window).output;
+    std::istringstream ids(run_process(x + "xdotool search --name 'omniview: front'").output);
+    for (std::string id; std::getline(ids, id);) {
+      if (id.empty() || !std::isdigit(static_cast<unsigned char>(id[0]))) continue;
+      if (run_process(x + "xdotool getwindowgeometry " + id).output.find("320x160") != std::string::npos) {
+        window = id;
+        return true;
+      }
+    }
+    return false;
+  }, std::chrono::milliseconds(static_cast<int64_t>(20000 * test_time_scale()))));
   const auto pose = [&] {
     v1::GetViewRequest get;
     get.set_name("front");
