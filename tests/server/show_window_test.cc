@@ -11,6 +11,9 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -35,55 +38,93 @@ bool eventually(F&& done, std::chrono::milliseconds timeout) {
   return done();
 }
 
-// A program run in the background (PATH searched), killed when it goes out of scope.
+// A program run in the background (PATH searched), its output into `log` (or nowhere),
+// killed when it goes out of scope. `report_fd`, when given, is the child's fd 3.
 class ChildProcess {
  public:
-  explicit ChildProcess(std::vector<std::string> args) {
+  explicit ChildProcess(std::vector<std::string> args, const std::string& log = "/dev/null", int report_fd = -1) {
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
-    posix_spawn_file_actions_t quiet;
-    posix_spawn_file_actions_init(&quiet);
-    posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&quiet, 2, "/dev/null", O_WRONLY, 0);
-    if (posix_spawnp(&pid_, argv[0], &quiet, nullptr, argv.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&quiet);
+    posix_spawn_file_actions_t files;
+    posix_spawn_file_actions_init(&files);
+    posix_spawn_file_actions_addopen(&files, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&files, 1, 2);
+    if (report_fd >= 0) posix_spawn_file_actions_adddup2(&files, report_fd, 3);
+    if (posix_spawnp(&pid_, argv[0], &files, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&files);
   }
   ~ChildProcess() {
     if (running()) ::kill(pid_, SIGTERM);
-    if (pid_ > 0) ::waitpid(pid_, nullptr, 0);
+    if (pid_ > 0 && !exited_) ::waitpid(pid_, nullptr, 0);
   }
-  bool running() { return pid_ > 0 && ::waitpid(pid_, &status_, WNOHANG) == 0; }
+  bool running() {
+    if (pid_ <= 0 || exited_) return false;
+    exited_ = ::waitpid(pid_, &status_, WNOHANG) != 0;
+    return !exited_;
+  }
 
  private:
   pid_t pid_ = -1;
   int status_ = 0;
+  bool exited_ = false;
 };
+
+// Xvfb on a display number it finds free itself (-displayfd): a fixed number may be taken
+// by another X server on the machine, and the test would then drive that one. -noreset:
+// by default Xvfb resets when its last client leaves, and a client connecting during the
+// reset is refused (Qt then aborts omniview show: "could not connect to display").
+std::string start_xvfb(std::unique_ptr<ChildProcess>& xvfb, const std::string& log) {
+  int fds[2];
+  if (::pipe(fds) != 0) return "";
+  xvfb = std::make_unique<ChildProcess>(
+      std::vector<std::string>{"Xvfb", "-displayfd", "3", "-screen", "0", "1280x800x24", "-nolisten", "tcp", "-noreset"}, log, fds[1]);
+  ::close(fds[1]);
+  std::string number;
+  char c;
+  while (::read(fds[0], &c, 1) == 1 && c != '\n') number += c;
+  ::close(fds[0]);
+  return number.empty() ? "" : ":" + number;
+}
+
+std::string read_file(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
 
 TEST(ShowWindow, KeysDragAndWheelSteerTheView) {
   TempDir dir;
   DaemonProcess daemon_(dir, example_config(20, "views:\n  - {name: front, type: perspective, width: 320, height: 160}\n"));
-  const std::string display = ":" + std::to_string(70 + ::getpid() % 200);
-  ChildProcess xvfb({"Xvfb", display, "-screen", "0", "1280x800x24", "-nolisten", "tcp"});
+  std::unique_ptr<ChildProcess> xvfb;
+  const std::string display = start_xvfb(xvfb, (dir.path() / "xvfb.log").string());
+  ASSERT_FALSE(display.empty()) << "Xvfb did not start: " << read_file(dir.path() / "xvfb.log");
   const std::string x = "env -u WAYLAND_DISPLAY DISPLAY=" + display + " ";
-  ASSERT_TRUE(eventually([&] { return run_process(x + "xdotool getdisplaygeometry").exit_code == 0; }, std::chrono::milliseconds(static_cast<int64_t>(5000 * test_time_scale()))));
   ChildProcess show({"env", "-u", "WAYLAND_DISPLAY", "DISPLAY=" + display, OMNIVIEW_CLI, "show", "front", "--server",
-                     daemon_.address()});
+                     daemon_.address()},
+                    (dir.path() / "show.log").string());
   // The window the first frame sized: only then does it take the mouse where the test
   // points. HighGUI may make and drop windows of that name while it starts, so every
   // match is asked, each time, until one has the frame's size.
-  std::string window;
-  ASSERT_TRUE(eventually([&] {
+  std::string window, windows_seen;
+  const bool found = eventually([&] {
+    if (!show.running()) return true;
+    windows_seen.clear();
     std::istringstream ids(run_process(x + "xdotool search --name 'omniview: front'").output);
     for (std::string id; std::getline(ids, id);) {
       if (id.empty() || !std::isdigit(static_cast<unsigned char>(id[0]))) continue;
-      if (run_process(x + "xdotool getwindowgeometry " + id).output.find("320x160") != std::string::npos) {
+      const std::string geometry = run_process(x + "xdotool getwindowgeometry " + id).output;
+      windows_seen += geometry;
+      if (geometry.find("320x160") != std::string::npos) {
         window = id;
         return true;
       }
     }
     return false;
-  }, std::chrono::milliseconds(static_cast<int64_t>(20000 * test_time_scale()))));
+  }, std::chrono::milliseconds(static_cast<int64_t>(20000 * test_time_scale())));
+  ASSERT_TRUE(found && !window.empty()) << "no 320x160 window of omniview show on " << display
+                                        << (show.running() ? "" : " (omniview show has exited)")
+                                        << "; windows of that name:\n" << windows_seen
+                                        << "omniview show's output:\n" << read_file(dir.path() / "show.log");
   const auto pose = [&] {
     v1::GetViewRequest get;
     get.set_name("front");
