@@ -37,8 +37,9 @@ TEST(GoldenDualFisheye, NaiveBackToBackStitchMisalignsTheRolledLens) {
   const Rig naive = golden::with_camera_pose(rig, "back", assumed);
   const ViewSpec v = golden::example_panorama(720, 360);
   const Scene scene = golden::matching_scene(rig, v, kWorld);
-  const auto ours = golden::run(scene, rig, rig, v, kWorld);
-  const auto stitched = golden::run(scene, rig, naive, v, kWorld);
+  golden::Renders renders(scene, rig, kWorld);
+  const auto ours = golden::run(renders, rig, v);
+  const auto stitched = golden::run(renders, naive, v);
   golden::report("calibrated roll", ours);
   golden::report("naive stitch", stitched);
   EXPECT_GT(ours.psnr_db, kDualFisheyeBoundDb);
@@ -103,6 +104,7 @@ TEST(GoldenDualFisheye, GreyAndMixedInputs) {
   const Rig rig = golden::example_rig();
   const ViewSpec v = golden::example_panorama(360, 180);
   const Scene scene = golden::matching_scene(rig, v, kWorld);
+  golden::Renders renders(scene, rig, kWorld);  // one render per lens for all five cases
   struct Case {
     const char* what;
     Inputs inputs;
@@ -112,7 +114,7 @@ TEST(GoldenDualFisheye, GreyAndMixedInputs) {
                         Case{"colour in, grey out", Inputs::kColour, 1},
                         Case{"grey front + colour back, colour out", Inputs::kMixed, 3},
                         Case{"grey front + colour back, grey out", Inputs::kMixed, 1}}) {
-    const auto s = golden::run(scene, rig, v, kWorld, c.inputs, c.out_channels);
+    const auto s = golden::run(renders, rig, v, c.inputs, c.out_channels);
     golden::report(c.what, s);
     EXPECT_EQ(s.rendered.channels(), c.out_channels) << c.what;
     EXPECT_GT(s.psnr_db, kDualFisheyeBoundDb) << c.what;

@@ -25,19 +25,35 @@ double psnr(double squared_error, size_t samples) {
 
 }  // namespace
 
-Score run(const synthetic::Scene& scene, const Rig& render_rig, const Rig& map_rig, const ViewSpec& spec,
-          const std::string& world_frame, Inputs inputs, int out_channels) {
+const cv::Mat& Renders::image(size_t camera, bool grey) {
+  cv::Mat& colour = colour_.at(camera);
+  if (colour.empty()) colour = synthetic::render_camera(scene_, rig_, camera, world_frame_, {.supersample = 3});
+  if (!grey) return colour;
+  cv::Mat& luma = grey_[camera];
+  if (luma.empty()) cv::cvtColor(colour, luma, cv::COLOR_BGR2GRAY);
+  return luma;
+}
+
+Score run(Renders& renders, const Rig& map_rig, const ViewSpec& spec, Inputs inputs, int out_channels) {
+  const Rig& render_rig = renders.rig();
+  const std::string& world_frame = renders.world_frame();
   const size_t n = render_rig.cameras().size();
-  std::vector<cv::Mat> images;
-  for (size_t i = 0; i < n; ++i) {
-    images.push_back(synthetic::render_camera(scene, render_rig, i, world_frame,
-                                              {.supersample = 3, .grey = is_grey(inputs, i)}));
-  }
   const auto view = View::create(spec);
   // Bilinear sampling everywhere: the reference is the texture at each pixel's centre, which
   // checks geometry; footprint_test.cc measures footprint-aware sampling against a
   // box-filtered reference instead.
   const FusionMap map = build_map(map_rig, *view, MapPrecision::kAdaptive, Sampling::kBilinear);
+  // Only the cameras the map reads are rendered; the others get black images of their size.
+  std::vector<cv::Mat> images;
+  for (size_t i = 0; i < n; ++i) {
+    const bool grey = is_grey(inputs, i);
+    if (map.camera_used.at(i)) {
+      images.push_back(renders.image(i, grey));
+    } else {
+      const Camera& cam = render_rig.cameras()[i];
+      images.emplace_back(cam.height, cam.width, grey ? CV_8UC1 : CV_8UC3, cv::Scalar::all(0));
+    }
+  }
   Score s;
   apply_map(map, images, s.rendered, out_channels);
 

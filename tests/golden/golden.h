@@ -35,12 +35,39 @@ struct Score {
   cv::Mat rendered, reference;
 };
 
-// `render_rig` renders the camera images; `map_rig` (usually the same) builds the map, so a
-// test can feed a wrong calibration and see the damage. The scene is in `world_frame`.
-// Where a greyscale camera feeds a colour output, the reference is the luma in every
-// channel (what apply_map delivers); with kMixed inputs use nearest fusion.
-Score run(const synthetic::Scene& scene, const Rig& render_rig, const Rig& map_rig, const ViewSpec& view,
-          const std::string& world_frame, Inputs inputs = Inputs::kColour, int out_channels = 3);
+// The camera images of a scene seen through a rig, rendered on first use and kept: the
+// renders (3x3 rays per pixel) are most of a golden test's time, tenfold under the
+// sanitizers, so runs that map the same images share one Renders. Greyscale images are
+// the colour render's luma (cv::COLOR_BGR2GRAY, as the reference's luma is made).
+class Renders {
+ public:
+  Renders(const synthetic::Scene& scene, const Rig& rig, std::string world_frame)
+      : scene_(scene), rig_(rig), world_frame_(std::move(world_frame)), colour_(rig.cameras().size()),
+        grey_(rig.cameras().size()) {}
+  const cv::Mat& image(size_t camera, bool grey);
+  const Rig& rig() const { return rig_; }
+  const std::string& world_frame() const { return world_frame_; }
+
+ private:
+  const synthetic::Scene& scene_;
+  const Rig& rig_;
+  std::string world_frame_;
+  std::vector<cv::Mat> colour_, grey_;
+};
+
+// `renders` holds the camera images; `map_rig` (usually the rig they were rendered with)
+// builds the map, so a test can feed a wrong calibration and see the damage. Where a
+// greyscale camera feeds a colour output, the reference is the luma in every channel (what
+// apply_map delivers); with kMixed inputs use nearest fusion.
+Score run(Renders& renders, const Rig& map_rig, const ViewSpec& view, Inputs inputs = Inputs::kColour,
+          int out_channels = 3);
+
+// The same, rendering the scene (in `world_frame`) through `render_rig` for this run only.
+inline Score run(const synthetic::Scene& scene, const Rig& render_rig, const Rig& map_rig, const ViewSpec& view,
+                 const std::string& world_frame, Inputs inputs = Inputs::kColour, int out_channels = 3) {
+  Renders renders(scene, render_rig, world_frame);
+  return run(renders, map_rig, view, inputs, out_channels);
+}
 
 inline Score run(const synthetic::Scene& scene, const Rig& rig, const ViewSpec& view, const std::string& world_frame,
                  Inputs inputs = Inputs::kColour, int out_channels = 3) {

@@ -68,8 +68,9 @@ TEST(SeamPlacement, SeamsStayInvisibleOnTheSurface) {
   ViewSpec nearest = blend;
   nearest.fusion = Fusion::kNearestCentre;
   const auto scene = golden::matching_scene(rig, blend, "body");
-  const auto b = golden::run(scene, rig, blend, "body", golden::Inputs::kGrey, 1);
-  const auto n = golden::run(scene, rig, nearest, "body", golden::Inputs::kGrey, 1);
+  golden::Renders renders(scene, rig, "body");
+  const auto b = golden::run(renders, rig, blend, golden::Inputs::kGrey, 1);
+  const auto n = golden::run(renders, rig, nearest, golden::Inputs::kGrey, 1);
   golden::report("spot front, blend", b);
   EXPECT_GT(b.psnr_db, kSpotWallBoundDb);
   EXPECT_GT(b.psnr_db, n.psnr_db - 1);
