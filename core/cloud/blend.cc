@@ -7,47 +7,68 @@
 
 namespace omniview {
 
+namespace {
+
+// Per-thread scratch for one chunk of points: the weighted sums so far.
+struct Sums {
+  std::vector<float> weight, r, g, b, heaviest;
+  std::vector<uint8_t> cam, hidden;
+  void reset(size_t len) {
+    for (auto* a : {&weight, &r, &g, &b, &heaviest}) a->assign(len, 0.f);
+    cam.assign(len, kNoCamera);
+    hidden.assign(len, 0);
+  }
+};
+
+}  // namespace
+
+// Camera by camera over points [begin, end), each camera over only the points it sees.
+// Each point's sums add the cameras in rig order, as the point-by-point loop did.
 void CloudColourer::blend(PointCloud& cloud, const CameraImages& input, const ColourOptions& options, size_t begin,
                           size_t end) const {
+  const size_t len = end - begin;
+  thread_local Sums sums;
+  sums.reset(len);
   const float rel = 1.f + options.occlusion_tolerance_rel, abs_tol = options.occlusion_tolerance_m;
-  const size_t n_cams = passes_.size();
-  for (size_t i = begin; i < end; ++i) {
-    uint8_t& flags = cloud.flags[i];
-    if (flags & cloud_flags::kSelf) continue;
-    bool hidden = false;
-    uint8_t best_cam = kNoCamera;
-    float heaviest = 0, sum_w = 0, sum[3] = {0, 0, 0};
-    for (size_t c = 0; c < n_cams; ++c) {
-      const CameraPass& pass = passes_[c];
-      if (!pass.active || !(pass.valid[i] & 1)) continue;
-      const float u = pass.u[i], v = pass.v[i];
-      if (options.occlusion) {
-        const int cx = static_cast<int>(u * pass.inv_cell + pass.offset);
-        const int cy = static_cast<int>(v * pass.inv_cell + pass.offset);
-        if (pass.range[i] > pass.occluder[size_t(cy) * pass.cols + cx] * rel + abs_tol) {
-          hidden = true;
+  for (size_t c = 0; c < passes_.size(); ++c) {
+    const CameraPass& pass = passes_[c];
+    if (!pass.active) continue;
+    const cv::Mat& feather = cameras_[c]->feather;
+    for (const cloud_internal::Seen& seen : pass.seen) {
+      const auto [first, last] = seen.span(begin, end);
+      for (size_t k = first; k < last; ++k) {
+        const size_t j = seen.index[k] - begin;
+        const float u = seen.u[k], v = seen.v[k];
+        if (options.occlusion && seen.range[k] > pass.occluder_at(u, v) * rel + abs_tol) {
+          sums.hidden[j] = 1;
           continue;
         }
-      }
-      const float w = cameras_[c]->feather.at<float>(static_cast<int>(v + 0.5f), static_cast<int>(u + 0.5f));
-      if (w <= 0) continue;
-      float rgb[3];
-      cloud_internal::sample(input.images[c], u, v, rgb);
-      sum_w += w;
-      for (int k = 0; k < 3; ++k) sum[k] += w * rgb[k];
-      if (w > heaviest) {  // the first of equally heavy cameras, as for nearest-centre
-        heaviest = w;
-        best_cam = static_cast<uint8_t>(c);
+        const float w = feather.at<float>(static_cast<int>(v + 0.5f), static_cast<int>(u + 0.5f));
+        if (w <= 0) continue;
+        float rgb[3];
+        cloud_internal::sample(input.images[c], u, v, rgb);
+        sums.weight[j] += w;
+        sums.r[j] += w * rgb[0];
+        sums.g[j] += w * rgb[1];
+        sums.b[j] += w * rgb[2];
+        if (w > sums.heaviest[j]) {  // the first of equally heavy cameras, as for nearest-centre
+          sums.heaviest[j] = w;
+          sums.cam[j] = static_cast<uint8_t>(c);
+        }
       }
     }
-    if (best_cam == kNoCamera) {
-      if (hidden) flags |= cloud_flags::kOccluded;
+  }
+  for (size_t j = 0; j < len; ++j) {
+    uint8_t& flags = cloud.flags[begin + j];
+    if (flags & cloud_flags::kSelf) continue;
+    if (sums.cam[j] == kNoCamera) {
+      if (sums.hidden[j]) flags |= cloud_flags::kOccluded;
       continue;
     }
-    float rgb[3];
-    for (int k = 0; k < 3; ++k) rgb[k] = sum[k] / sum_w;
-    cloud.rgb[i] = {cloud_internal::to_byte(rgb[0]), cloud_internal::to_byte(rgb[1]), cloud_internal::to_byte(rgb[2])};
-    cloud.camera[i] = best_cam;
+    const float w = sums.weight[j];
+    cloud.rgb[begin + j] = {cloud_internal::to_byte(sums.r[j] / w), cloud_internal::to_byte(sums.g[j] / w),
+                            cloud_internal::to_byte(sums.b[j] / w)};
+    cloud.camera[begin + j] = sums.cam[j];
     flags |= cloud_flags::kColoured;
   }
 }

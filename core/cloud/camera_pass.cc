@@ -10,11 +10,28 @@ namespace omniview::cloud_internal {
 
 namespace {
 
-constexpr float kFarDepth = std::numeric_limits<float>::max();
-
-// dst = min(dst, src), elementwise; a loop of its own so that it vectorises.
-void min_into(float* __restrict dst, const float* __restrict src, int n) {
-  for (int x = 0; x < n; ++x) dst[x] = src[x] < dst[x] ? src[x] : dst[x];
+// w[i] = min(src[i], src[i + stride], ..., src[i + (width - 1) stride]) for every i whose
+// window lies in [0, size): by doubling windows, a few passes over the buffer whatever the
+// width. `tmp` holds as much as `w`.
+void window_min(const float* src, size_t size, size_t stride, int width, float* w, float* tmp) {
+  const float* cur = src;
+  int have = 1;  // cur[i] is the minimum over `have` samples from i
+  while (have * 2 <= width) {
+    const size_t step = size_t(have) * stride, valid = size - std::min(size, (2 * size_t(have) - 1) * stride);
+    float* __restrict out = (cur == tmp) ? w : tmp;
+    const float* __restrict a = cur;
+    for (size_t i = 0; i < valid; ++i) out[i] = a[i + step] < a[i] ? a[i + step] : a[i];
+    cur = out;
+    have *= 2;
+  }
+  const size_t step = size_t(width - have) * stride, valid = size - std::min(size, (size_t(width) - 1) * stride);
+  if (cur == w) {  // finish in place: each w[i] reads w[i] and a later w[i + step]
+    for (size_t i = 0; i < valid; ++i) w[i] = w[i + step] < w[i] ? w[i + step] : w[i];
+  } else {
+    float* __restrict out = w;
+    const float* __restrict a = cur;
+    for (size_t i = 0; i < valid; ++i) out[i] = a[i + step] < a[i] ? a[i + step] : a[i];
+  }
 }
 
 // Projects every point with one camera's model: the variant is visited once, and this
@@ -64,30 +81,27 @@ void project_camera(const CameraModel& camera_model, const Eigen::Matrix<float, 
   run(std::get_if<Eucm>(&camera_model));
 }
 
-// Two loops: cell indices, branch-free so they vectorise (a point the buffer does not
-// reach goes to the spare last cell), then the scatter, one load and store per point.
-// The scatter skips the spare cell by a branch: points outside a camera come in long runs,
-// so it predicts well, where a store to the same cell every time would wait on the last.
-void splat(const CameraPass& pass, const float* u, const float* v, const float* range, const uint8_t* valid,
-           size_t n, float* depth) {
-  constexpr size_t kBlock = 512;
-  int32_t cell[kBlock];
+// One loop, branching on what a camera sees: points outside a camera come in long runs, so
+// the branches predict well, and the stores then go only where they count.
+void splat_and_keep(const CameraPass& pass, size_t first, const float* u, const float* v, const float* range,
+                    const uint8_t* valid, size_t n, float* depth, Seen& seen) {
   const float cols = static_cast<float>(pass.cols), rows = static_cast<float>(pass.rows);
   const int pcols = pass.padded_cols(), pad = pass.reach;
-  const int spare = static_cast<int>(pass.padded_size() - 1);
-  for (size_t b = 0; b < n; b += kBlock) {
-    const size_t m = std::min(kBlock, n - b);
-    for (size_t i = 0; i < m; ++i) {
-      const float cx = u[b + i] * pass.inv_cell + pass.offset, cy = v[b + i] * pass.inv_cell + pass.offset;
-      const bool in = (valid[b + i] != 0) & (cx >= 0.f) & (cy >= 0.f) & (cx < cols) & (cy < rows);
-      const float sx = in ? cx : 0.f, sy = in ? cy : 0.f;  // no NaN into the conversions
-      const int at = (static_cast<int>(sy) + pad) * pcols + static_cast<int>(sx) + pad;
-      cell[i] = in ? at : spare;
+  for (size_t i = 0; i < n; ++i) {
+    if (!valid[i]) continue;
+    if (depth) {
+      const float cx = u[i] * pass.inv_cell + pass.offset, cy = v[i] * pass.inv_cell + pass.offset;
+      if (cx >= 0.f && cy >= 0.f && cx < cols && cy < rows) {
+        float& d = depth[(static_cast<int>(cy) + pad) * pcols + static_cast<int>(cx) + pad];
+        d = std::min(d, range[i]);
+      }
     }
-    for (size_t i = 0; i < m; ++i) {
-      if (cell[i] == spare) continue;
-      float& d = depth[cell[i]];
-      d = std::min(d, range[b + i]);
+    if (valid[i] & 1) {
+      seen.index[seen.size] = static_cast<uint32_t>(first + i);
+      seen.u[seen.size] = u[i];
+      seen.v[seen.size] = v[i];
+      seen.range[seen.size] = range[i];
+      ++seen.size;
     }
   }
 }
@@ -102,23 +116,25 @@ void splat(const CameraPass& pass, const float* u, const float* v, const float* 
 void occluding_depth(CameraPass& pass) {
   const int rows = pass.rows, cols = pass.cols, pcols = pass.padded_cols(), reach = pass.reach;
   const float* depth = pass.depth[0].data();
+  const size_t size = pass.padded_size() - 1;  // the spare last cell is no part of the picture
+  // Minima over `reach` cells down (vertical) and to the right (horizontal) from each cell.
+  thread_local std::vector<float> vertical, horizontal, tmp;
+  vertical.resize(size);
+  horizontal.resize(size);
+  tmp.resize(size);
+  window_min(depth, size, size_t(pcols), reach, vertical.data(), tmp.data());
+  window_min(depth, size, 1, reach, horizontal.data(), tmp.data());
   pass.occluder.resize(size_t(rows) * size_t(cols));
-  std::vector<float> sides(4 * size_t(cols));
-  float* up = sides.data();
-  float* down = up + cols;
-  float* left = down + cols;
-  float* right = left + cols;
   for (int y = 0; y < rows; ++y) {
-    const float* centre = depth + ptrdiff_t(y + reach) * pcols + reach;
-    std::fill(sides.begin(), sides.end(), kFarDepth);
-    for (int k = 1; k <= reach; ++k) {
-      min_into(up, centre - ptrdiff_t(k) * pcols, cols);
-      min_into(down, centre + ptrdiff_t(k) * pcols, cols);
-      min_into(left, centre - k, cols);
-      min_into(right, centre + k, cols);
+    const ptrdiff_t p = ptrdiff_t(y + reach) * pcols + reach;  // cell (y, 0) in the padded buffer
+    const float* __restrict up = vertical.data() + p - ptrdiff_t(reach) * pcols;  // rows y-reach .. y-1
+    const float* __restrict down = vertical.data() + p + pcols;                   // rows y+1 .. y+reach
+    const float* __restrict left = horizontal.data() + p - reach;                 // columns x-reach .. x-1
+    const float* __restrict right = horizontal.data() + p + 1;                    // columns x+1 .. x+reach
+    float* __restrict out = pass.occluder.data() + ptrdiff_t(y) * cols;
+    for (int x = 0; x < cols; ++x) {
+      out[x] = std::min(std::max(up[x], down[x]), std::max(left[x], right[x]));
     }
-    float* out = pass.occluder.data() + ptrdiff_t(y) * cols;
-    for (int x = 0; x < cols; ++x) out[x] = std::min(std::max(up[x], down[x]), std::max(left[x], right[x]));
   }
 }
 

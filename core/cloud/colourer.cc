@@ -57,6 +57,9 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
     throw std::invalid_argument("colouring: " + std::to_string(input.images.size()) + " images for " +
                                 std::to_string(n_cams) + " cameras");
   }
+  if (n > std::numeric_limits<uint32_t>::max()) {
+    throw std::invalid_argument("colouring: more than 2^32 points");  // points are indexed with 32 bits
+  }
   if (!input.stamps.empty() && input.stamps.size() != n_cams) {
     throw std::invalid_argument("colouring: image stamps must be none or one per camera");
   }
@@ -146,10 +149,7 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
     const auto t_cam = input.stamps.empty() ? cloud.stamp : input.stamps[c];
     const Pose motion_fix = sync ? motion->relative(t_cam, cloud.stamp) : Pose::Identity();
     T_cam_cloud[c] = to_float(rig.camera_pose(base, c).inverse() * motion_fix * *T_base_cloud);
-    pass.u.resize(n);
-    pass.v.resize(n);
-    pass.range.resize(n);
-    pass.valid.resize(n);
+    pass.seen.resize(ranges);
     const float cell = std::max(1.0f, float(s.px_per_rad * options.occlusion_cell_deg * M_PI / 180));
     pass.inv_cell = 1.f / cell;
     // The buffer reaches `reach` cells past the image on every side, so that a surface just
@@ -174,12 +174,14 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
       }
       // Blocks small enough that the splat reads the projections back from L1.
       constexpr size_t kBlock = 1024;
-      for (size_t b = n * r / ranges, end = n * (r + 1) / ranges; b < end; b += kBlock) {
+      float u[kBlock], v[kBlock], range[kBlock];
+      uint8_t valid[kBlock];
+      const size_t first = n * r / ranges, end = n * (r + 1) / ranges;
+      cloud_internal::Seen& seen = pass.seen[r];
+      seen.reserve(end - first);
+      seen.size = 0;
+      for (size_t b = first; b < end; b += kBlock) {
         const size_t m = std::min(kBlock, end - b);
-        float* u = pass.u.data() + b;
-        float* v = pass.v.data() + b;
-        float* range = pass.range.data() + b;
-        uint8_t* valid = pass.valid.data() + b;
         cloud_internal::project_camera(cam.model, T_cam_cloud[c], x_.data() + b, y_.data() + b, z_.data() + b, m,
                                        float(cam.width - 1), float(cam.height - 1), u, v, range, valid);
         if (!s.all_usable) {
@@ -189,7 +191,7 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
             }
           }
         }
-        if (depth) cloud_internal::splat(pass, u, v, range, valid, m, depth);
+        cloud_internal::splat_and_keep(pass, b, u, v, range, valid, m, depth, seen);
       }
     }
   });

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
@@ -26,11 +28,34 @@ struct CloudColourer::CameraSetup {
 
 namespace cloud_internal {
 
-// One camera's projections of the current cloud and its depth buffer.
+// The points of one range that a camera sees on a usable pixel of its image, in point
+// order: what fusion reads. Kept apart from the points the camera does not see (most of
+// them: five cameras share a lidar's circle), which only the depth buffer needs.
+struct Seen {
+  std::unique_ptr<uint32_t[]> index;
+  std::unique_ptr<float[]> u, v, range;
+  size_t size = 0, capacity = 0;
+  // Room for n points; the arrays are left uninitialised (the pass writes what it keeps).
+  void reserve(size_t n) {
+    if (n <= capacity) return;
+    index.reset(new uint32_t[n]);
+    u.reset(new float[n]);
+    v.reset(new float[n]);
+    range.reset(new float[n]);
+    capacity = n;
+  }
+  // The entries of points [begin, end).
+  std::pair<size_t, size_t> span(size_t begin, size_t end) const {
+    const uint32_t* first = index.get();
+    return {size_t(std::lower_bound(first, first + size, begin) - first),
+            size_t(std::lower_bound(first, first + size, end) - first)};
+  }
+};
+
+// One camera's view of the current cloud: the points it sees, and its depth buffer.
 struct CameraPass {
   bool active = false;
-  std::vector<float> u, v, range;
-  std::vector<uint8_t> valid;  // bit 1: the model images the point; bit 0: a usable pixel too
+  std::vector<Seen> seen;  // one per point range, in order
   float inv_cell = 1, offset = 0;
   int reach = 1;
   int rows = 0, cols = 0;  // depth buffer cells (the image and `reach` cells past it)
@@ -41,6 +66,10 @@ struct CameraPass {
   std::vector<float> occluder;  // rows x cols: the depth of a surface covering each cell
   int padded_cols() const { return cols + 2 * reach; }
   size_t padded_size() const { return size_t(rows + 2 * reach) * size_t(padded_cols()) + 1; }
+  // The covering depth at pixel (u, v) of the image.
+  float occluder_at(float u, float v) const {
+    return occluder[size_t(static_cast<int>(v * inv_cell + offset)) * cols + static_cast<int>(u * inv_cell + offset)];
+  }
 };
 
 // Bilinear sample at (u, v) inside [0, W-1] x [0, H-1]; R, G, B out.
@@ -69,10 +98,11 @@ void project_camera(const CameraModel& model, const Eigen::Matrix<float, 3, 4>& 
                     const float* y, const float* z, size_t n, float max_u, float max_v, float* u, float* v,
                     float* range, uint8_t* valid);
 
-// Splats points [0, n) of `pass` (already offset by the caller) into `depth`, one of its
-// padded buffers: nearest range per cell.
-void splat(const CameraPass& pass, const float* u, const float* v, const float* range,
-           const uint8_t* valid, size_t n, float* depth);
+// Points first .. first + n - 1, projected: splats those the model images into `depth` (one
+// of the pass's padded buffers; null without occlusion), nearest range per cell, and keeps
+// those on a usable pixel in `seen`.
+void splat_and_keep(const CameraPass& pass, size_t first, const float* u, const float* v, const float* range,
+                    const uint8_t* valid, size_t n, float* depth, Seen& seen);
 
 // pass.occluder from pass.depth[0] (see occluding_depth in camera_pass.cc).
 void occluding_depth(CameraPass& pass);
