@@ -87,6 +87,13 @@ void splat_and_keep(const CameraPass& pass, size_t first, const float* u, const 
                     const uint8_t* valid, size_t n, float* depth, Seen& seen) {
   const float cols = static_cast<float>(pass.cols), rows = static_cast<float>(pass.rows);
   const int pcols = pass.padded_cols(), pad = pass.reach;
+  // Locals, not the Seen's members: stores through `seen` each point would also go to a
+  // cache line that the next range's Seen, filled by another thread, shares.
+  size_t kept = seen.size;
+  uint32_t* __restrict index = seen.index.get();
+  float* __restrict seen_u = seen.u.get();
+  float* __restrict seen_v = seen.v.get();
+  float* __restrict seen_range = seen.range.get();
   for (size_t i = 0; i < n; ++i) {
     if (!valid[i]) continue;
     if (depth) {
@@ -97,13 +104,14 @@ void splat_and_keep(const CameraPass& pass, size_t first, const float* u, const 
       }
     }
     if (valid[i] & 1) {
-      seen.index[seen.size] = static_cast<uint32_t>(first + i);
-      seen.u[seen.size] = u[i];
-      seen.v[seen.size] = v[i];
-      seen.range[seen.size] = range[i];
-      ++seen.size;
+      index[kept] = static_cast<uint32_t>(first + i);
+      seen_u[kept] = u[i];
+      seen_v[kept] = v[i];
+      seen_range[kept] = range[i];
+      ++kept;
     }
   }
+  seen.size = kept;
 }
 
 // The depth of a surface in front of each cell, from the cloud's own points splatted into

@@ -3,8 +3,10 @@
 #include "core/cloud/colourer_internal.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include <opencv2/core/utility.hpp>
@@ -160,6 +162,26 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
     pass.cols = static_cast<int>(cam.width * pass.inv_cell) + 1 + 2 * reach;
     pass.depth.resize(options.occlusion ? ranges : 0);
   }
+  // A camera's last range to finish merges its depth buffers and finds what covers each
+  // cell, while other tasks still run (no wait for all cameras in between).
+  auto finish_camera = [&](size_t c) {
+    CameraPass& pass = passes_[c];
+    if (options.occlusion) {
+      float* __restrict merged = pass.depth[0].data();
+      for (size_t r = 1; r < ranges; ++r) {
+        const float* __restrict other = pass.depth[r].data();
+        for (size_t k = 0, size = pass.padded_size(); k < size; ++k) merged[k] = std::min(merged[k], other[k]);
+      }
+      cloud_internal::occluding_depth(pass);
+    }
+    CameraSetup& s = *cameras_[c];
+    if (blend && s.feather_px != options.feather_px) {
+      s.feather = feather_weights(rig.cameras()[c], options.feather_px);
+      s.feather_px = options.feather_px;
+    }
+  };
+  const std::unique_ptr<std::atomic<size_t>[]> ranges_left(new std::atomic<size_t>[n_cams]);
+  for (size_t c = 0; c < n_cams; ++c) ranges_left[c].store(ranges, std::memory_order_relaxed);
   cv::parallel_for_(cv::Range(0, static_cast<int>(n_cams * ranges)), [&](const cv::Range& tasks) {
     for (int task = tasks.start; task < tasks.end; ++task) {
       const size_t c = static_cast<size_t>(task) / ranges, r = static_cast<size_t>(task) % ranges;
@@ -193,26 +215,8 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
         }
         cloud_internal::splat_and_keep(pass, b, u, v, range, valid, m, depth, seen);
       }
-    }
-  });
-  cv::parallel_for_(cv::Range(0, static_cast<int>(n_cams)), [&](const cv::Range& cams) {
-    for (int ci = cams.start; ci < cams.end; ++ci) {
-      const size_t c = static_cast<size_t>(ci);
-      CameraPass& pass = passes_[c];
-      if (!pass.active) continue;
-      if (options.occlusion) {
-        float* __restrict merged = pass.depth[0].data();
-        for (size_t r = 1; r < ranges; ++r) {
-          const float* __restrict other = pass.depth[r].data();
-          for (size_t k = 0, size = pass.padded_size(); k < size; ++k) merged[k] = std::min(merged[k], other[k]);
-        }
-        cloud_internal::occluding_depth(pass);
-      }
-      CameraSetup& s = *cameras_[c];
-      if (blend && s.feather_px != options.feather_px) {
-        s.feather = feather_weights(rig.cameras()[c], options.feather_px);
-        s.feather_px = options.feather_px;
-      }
+      // acq_rel: the last one sees every range's buffer.
+      if (ranges_left[c].fetch_sub(1, std::memory_order_acq_rel) == 1) finish_camera(c);
     }
   });
 

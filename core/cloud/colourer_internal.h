@@ -10,6 +10,10 @@
 
 #include <opencv2/core/mat.hpp>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <Eigen/Core>
 
 #include "core/cloud/colourer.h"
@@ -31,7 +35,7 @@ namespace cloud_internal {
 // The points of one range that a camera sees on a usable pixel of its image, in point
 // order: what fusion reads. Kept apart from the points the camera does not see (most of
 // them: five cameras share a lidar's circle), which only the depth buffer needs.
-struct Seen {
+struct alignas(64) Seen {  // a cache line of its own: threads fill neighbouring ones
   std::unique_ptr<uint32_t[]> index;
   std::unique_ptr<float[]> u, v, range;
   size_t size = 0, capacity = 0;
@@ -87,9 +91,28 @@ struct CameraPass {
   }
   const cv::Vec3b* r0 = image.ptr<cv::Vec3b>(y0);
   const cv::Vec3b* r1 = image.ptr<cv::Vec3b>(y1);
+#if defined(__SSE2__)
+  // The three channels in the lanes of one register: the same products and sums, in the
+  // same order, as the loop below, a quarter of the conversions.
+  const auto lanes = [](const cv::Vec3b& p) {
+    const __m128i bytes = _mm_cvtsi32_si128(p[0] | (p[1] << 8) | (p[2] << 16));
+    const __m128i zero = _mm_setzero_si128();
+    return _mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_unpacklo_epi8(bytes, zero), zero));
+  };
+  const __m128 sum = _mm_add_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(_mm_set1_ps(w00), lanes(r0[x0])),
+                                                      _mm_mul_ps(_mm_set1_ps(w01), lanes(r0[x1]))),
+                                           _mm_mul_ps(_mm_set1_ps(w10), lanes(r1[x0]))),
+                                _mm_mul_ps(_mm_set1_ps(w11), lanes(r1[x1])));
+  alignas(16) float bgr[4];
+  _mm_store_ps(bgr, sum);
+  rgb[0] = bgr[2];  // BGR in, RGB out
+  rgb[1] = bgr[1];
+  rgb[2] = bgr[0];
+#else
   for (int k = 0; k < 3; ++k) {  // BGR in, RGB out
     rgb[2 - k] = w00 * r0[x0][k] + w01 * r0[x1][k] + w10 * r1[x0][k] + w11 * r1[x1][k];
   }
+#endif
 }
 
 // One camera's projections of points [0, n): pixel (u, v), range, and the `valid` bits above

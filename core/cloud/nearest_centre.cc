@@ -43,13 +43,15 @@ void CloudColourer::nearest_centre(PointCloud& cloud, const CameraImages& input,
       for (size_t k = first; k < last; ++k) {
         const size_t j = seen.index[k] - begin;
         const float u = seen.u[k], v = seen.v[k];
-        if (options.occlusion && seen.range[k] > pass.occluder_at(u, v) * rel + abs_tol) {
-          best.hidden[j] = 1;
-          continue;
-        }
         const float du = u - s.cx, dv = v - s.cy;
         const float score = (du * du + dv * dv) * s.inv_half_diag2;
+        // The depth test only where this camera would win: a point some camera already
+        // colours is never flagged hidden, so a losing camera need not look.
         if (score < best.score[j]) {
+          if (options.occlusion && seen.range[k] > pass.occluder_at(u, v) * rel + abs_tol) {
+            best.hidden[j] = 1;
+            continue;
+          }
           best.score[j] = score;
           best.cam[j] = static_cast<uint8_t>(c);
           best.u[j] = u;
