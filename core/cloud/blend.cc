@@ -24,8 +24,8 @@ struct Sums {
 
 // Camera by camera over points [begin, end), each camera over only the points it sees.
 // Each point's sums add the cameras in rig order, as the point-by-point loop did.
-void CloudColourer::blend(PointCloud& cloud, const CameraImages& input, const ColourOptions& options, size_t begin,
-                          size_t end) const {
+ColourStats CloudColourer::blend(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
+                                 size_t begin, size_t end) const {
   const size_t len = end - begin;
   thread_local Sums sums;
   sums.reset(len);
@@ -58,19 +58,31 @@ void CloudColourer::blend(PointCloud& cloud, const CameraImages& input, const Co
       }
     }
   }
+  ColourStats stats;
   for (size_t j = 0; j < len; ++j) {
-    uint8_t& flags = cloud.flags[begin + j];
-    if (flags & cloud_flags::kSelf) continue;
-    if (sums.cam[j] == kNoCamera) {
-      if (sums.hidden[j]) flags |= cloud_flags::kOccluded;
-      continue;
+    uint8_t flags = cloud.flags[begin + j] & static_cast<uint8_t>(~(cloud_flags::kColoured | cloud_flags::kOccluded));
+    uint8_t camera = kNoCamera;
+    if (flags & cloud_flags::kSelf) {
+      ++stats.self_filtered;
+    } else if (sums.cam[j] == kNoCamera) {
+      if (sums.hidden[j]) {
+        flags |= cloud_flags::kOccluded;
+        ++stats.occluded;
+      } else {
+        ++stats.unseen;
+      }
+    } else {
+      const float w = sums.weight[j];
+      cloud.rgb[begin + j] = {cloud_internal::to_byte(sums.r[j] / w), cloud_internal::to_byte(sums.g[j] / w),
+                              cloud_internal::to_byte(sums.b[j] / w)};
+      camera = sums.cam[j];
+      flags |= cloud_flags::kColoured;
+      ++stats.coloured;
     }
-    const float w = sums.weight[j];
-    cloud.rgb[begin + j] = {cloud_internal::to_byte(sums.r[j] / w), cloud_internal::to_byte(sums.g[j] / w),
-                            cloud_internal::to_byte(sums.b[j] / w)};
-    cloud.camera[begin + j] = sums.cam[j];
-    flags |= cloud_flags::kColoured;
+    cloud.flags[begin + j] = flags;
+    cloud.camera[begin + j] = camera;
   }
+  return stats;
 }
 
 }  // namespace omniview

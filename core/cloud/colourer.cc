@@ -23,6 +23,14 @@ using Affine3f = Eigen::Matrix<float, 3, 4>;
 
 Affine3f to_float(const Pose& T) { return T.matrix().topRows<3>().cast<float>(); }
 
+// body(begin, end) over [0, n) in blocks, on OpenCV's threads.
+template <typename Body>
+void for_blocks(size_t n, const Body& body, size_t block = 16384) {
+  cv::parallel_for_(cv::Range(0, static_cast<int>((n + block - 1) / block)), [&](const cv::Range& blocks) {
+    body(static_cast<size_t>(blocks.start) * block, std::min(n, static_cast<size_t>(blocks.end) * block));
+  });
+}
+
 }  // namespace
 
 CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(rig)) {
@@ -74,6 +82,19 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
   }
   const bool sync = options.time_sync && motion && !motion->empty();
 
+  // Checks before any work, so that a bad image throws before threads start.
+  for (size_t c = 0; c < n_cams; ++c) {
+    const cv::Mat& image = input.images[c];
+    const Camera& cam = rig.cameras()[c];
+    if (!image.empty() &&
+        (image.cols != cam.width || image.rows != cam.height || (image.type() != CV_8UC1 && image.type() != CV_8UC3))) {
+      throw std::invalid_argument("colouring: camera '" + cam.name + "' image is " + std::to_string(image.cols) + "x" +
+                                  std::to_string(image.rows) + " (type " + std::to_string(image.type()) +
+                                  "); its calibration is for " + std::to_string(cam.width) + "x" +
+                                  std::to_string(cam.height) + " 8-bit grey or BGR");
+    }
+  }
+
   // The points where they were at the cloud's stamp (per-point times: one correction per bin).
   x_.resize(n);
   y_.resize(n);
@@ -98,41 +119,31 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
                                        std::chrono::duration<double>(t_min + (k + 0.5) * bin));
       corrections[k] = to_float(T_cloud_base * motion->relative(cloud.stamp, t) * *T_base_cloud);
     }
-    for (size_t i = 0; i < n; ++i) {
-      const float t = std::isfinite(cloud.time[i]) ? cloud.time[i] : t_min;
-      const size_t k = static_cast<size_t>(std::clamp((double(t) - t_min) / bin, 0.0, double(bins - 1)));
-      const Eigen::Vector3f p = corrections[k] * cloud.points[i].homogeneous();
-      x_[i] = p.x();
-      y_[i] = p.y();
-      z_[i] = p.z();
-    }
+    for_blocks(n, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        const float t = std::isfinite(cloud.time[i]) ? cloud.time[i] : t_min;
+        const size_t k = static_cast<size_t>(std::clamp((double(t) - t_min) / bin, 0.0, double(bins - 1)));
+        const Eigen::Vector3f p = corrections[k] * cloud.points[i].homogeneous();
+        x_[i] = p.x();
+        y_[i] = p.y();
+        z_[i] = p.z();
+      }
+    });
   } else {
-    for (size_t i = 0; i < n; ++i) {
-      x_[i] = cloud.points[i].x();
-      y_[i] = cloud.points[i].y();
-      z_[i] = cloud.points[i].z();
-    }
+    for_blocks(n, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) {
+        x_[i] = cloud.points[i].x();
+        y_[i] = cloud.points[i].y();
+        z_[i] = cloud.points[i].z();
+      }
+    });
   }
 
-  // Outputs.
+  // Outputs, once nothing can throw.
   if (cloud.rgb.empty()) cloud.rgb.assign(n, {0, 0, 0});
   if (cloud.flags.empty()) cloud.flags.assign(n, 0);
-  cloud.camera.assign(n, kNoCamera);
-  for (auto& f : cloud.flags) f &= static_cast<uint8_t>(~(cloud_flags::kColoured | cloud_flags::kOccluded));
+  cloud.camera.resize(n);  // phase 2 writes every point's camera, flags and stats
   const bool blend = options.fusion == Fusion::kBlend;
-
-  // Checks before any work, so that a bad image throws before threads start.
-  for (size_t c = 0; c < n_cams; ++c) {
-    const cv::Mat& image = input.images[c];
-    const Camera& cam = rig.cameras()[c];
-    if (!image.empty() &&
-        (image.cols != cam.width || image.rows != cam.height || (image.type() != CV_8UC1 && image.type() != CV_8UC3))) {
-      throw std::invalid_argument("colouring: camera '" + cam.name + "' image is " + std::to_string(image.cols) + "x" +
-                                  std::to_string(image.rows) + " (type " + std::to_string(image.type()) +
-                                  "); its calibration is for " + std::to_string(cam.width) + "x" +
-                                  std::to_string(cam.height) + " 8-bit grey or BGR");
-    }
-  }
 
   // Phase 1: project every point into each camera, splat the depth buffers and find what
   // covers each cell. Tasks are (camera x point range), as many ranges as threads, each
@@ -221,28 +232,22 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
   });
 
   // Phase 2, points in chunks: pick (or blend) the cameras that see each point unhidden.
-  cv::parallel_for_(cv::Range(0, static_cast<int>((n + 4095) / 4096)), [&](const cv::Range& chunks) {
-    const size_t begin = static_cast<size_t>(chunks.start) * 4096, end = std::min(n, static_cast<size_t>(chunks.end) * 4096);
-    if (blend) {
-      this->blend(cloud, input, options, begin, end);
-    } else {
-      nearest_centre(cloud, input, options, begin, end);
-    }
-  });
+  std::atomic<size_t> coloured{0}, occluded{0}, self_filtered{0}, unseen{0};
+  for_blocks(n, [&](size_t begin, size_t end) {
+    const ColourStats chunk = blend ? this->blend(cloud, input, options, begin, end)
+                                    : nearest_centre(cloud, input, options, begin, end);
+    coloured += chunk.coloured;
+    occluded += chunk.occluded;
+    self_filtered += chunk.self_filtered;
+    unseen += chunk.unseen;
+  }, 4096);
 
   ColourStats stats;
   stats.points = n;
-  for (const uint8_t f : cloud.flags) {
-    if (f & cloud_flags::kSelf) {
-      ++stats.self_filtered;
-    } else if (f & cloud_flags::kColoured) {
-      ++stats.coloured;
-    } else if (f & cloud_flags::kOccluded) {
-      ++stats.occluded;
-    } else {
-      ++stats.unseen;
-    }
-  }
+  stats.coloured = coloured;
+  stats.occluded = occluded;
+  stats.self_filtered = self_filtered;
+  stats.unseen = unseen;
   return stats;
 }
 

@@ -103,10 +103,11 @@ class CloudColourer {
   std::vector<std::shared_ptr<CameraSetup>> cameras_;
   using CameraPass = cloud_internal::CameraPass;
   // Phase 2 of colour() on points [begin, end): nearest-centre fusion, or a feathered blend.
-  void nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options, size_t begin,
-                      size_t end) const;
-  void blend(PointCloud& cloud, const CameraImages& input, const ColourOptions& options, size_t begin,
-             size_t end) const;
+  // Each sets every point's flags and camera, and counts them (all but ColourStats::points).
+  ColourStats nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
+                             size_t begin, size_t end) const;
+  ColourStats blend(PointCloud& cloud, const CameraImages& input, const ColourOptions& options, size_t begin,
+                    size_t end) const;
   // Scratch, reused between calls.
   std::vector<float> x_, y_, z_;  // points at the cloud's stamp, in the cloud frame
   std::vector<CameraPass> passes_;

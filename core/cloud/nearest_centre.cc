@@ -28,8 +28,8 @@ struct Best {
 // point order, so the chunk's scratch is read in order too); then one pass samples the
 // winners. Cameras in rig order, a strictly better score wins: the choice is the one the
 // point-by-point loop made.
-void CloudColourer::nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
-                                   size_t begin, size_t end) const {
+ColourStats CloudColourer::nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
+                                          size_t begin, size_t end) const {
   const size_t len = end - begin;
   thread_local Best best;
   best.reset(len);
@@ -60,20 +60,32 @@ void CloudColourer::nearest_centre(PointCloud& cloud, const CameraImages& input,
       }
     }
   }
+  ColourStats stats;
   for (size_t j = 0; j < len; ++j) {
-    uint8_t& flags = cloud.flags[begin + j];
-    if (flags & cloud_flags::kSelf) continue;
-    if (best.cam[j] == kNoCamera) {
-      if (best.hidden[j]) flags |= cloud_flags::kOccluded;
-      continue;
+    uint8_t flags = cloud.flags[begin + j] & static_cast<uint8_t>(~(cloud_flags::kColoured | cloud_flags::kOccluded));
+    uint8_t camera = kNoCamera;
+    if (flags & cloud_flags::kSelf) {
+      ++stats.self_filtered;
+    } else if (best.cam[j] == kNoCamera) {
+      if (best.hidden[j]) {
+        flags |= cloud_flags::kOccluded;
+        ++stats.occluded;
+      } else {
+        ++stats.unseen;
+      }
+    } else {
+      float rgb[3];
+      cloud_internal::sample(input.images[best.cam[j]], best.u[j], best.v[j], rgb);
+      cloud.rgb[begin + j] = {cloud_internal::to_byte(rgb[0]), cloud_internal::to_byte(rgb[1]),
+                              cloud_internal::to_byte(rgb[2])};
+      camera = best.cam[j];
+      flags |= cloud_flags::kColoured;
+      ++stats.coloured;
     }
-    float rgb[3];
-    cloud_internal::sample(input.images[best.cam[j]], best.u[j], best.v[j], rgb);
-    cloud.rgb[begin + j] = {cloud_internal::to_byte(rgb[0]), cloud_internal::to_byte(rgb[1]),
-                            cloud_internal::to_byte(rgb[2])};
-    cloud.camera[begin + j] = best.cam[j];
-    flags |= cloud_flags::kColoured;
+    cloud.flags[begin + j] = flags;
+    cloud.camera[begin + j] = camera;
   }
+  return stats;
 }
 
 }  // namespace omniview
