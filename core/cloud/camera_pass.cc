@@ -86,6 +86,7 @@ void project_camera(const CameraModel& camera_model, const Eigen::Matrix<float, 
 void splat_and_keep(const CameraPass& pass, size_t first, const float* u, const float* v, const float* range,
                     const uint8_t* valid, size_t n, float* depth, Seen& seen) {
   const float cols = static_cast<float>(pass.cols), rows = static_cast<float>(pass.rows);
+  const float inv_cell = pass.inv_cell, offset = pass.offset;
   const int pcols = pass.padded_cols(), pad = pass.reach;
   // Locals, not the Seen's members: stores through `seen` each point would also go to a
   // cache line that the next range's Seen, filled by another thread, shares.
@@ -97,7 +98,7 @@ void splat_and_keep(const CameraPass& pass, size_t first, const float* u, const 
   for (size_t i = 0; i < n; ++i) {
     if (!valid[i]) continue;
     if (depth) {
-      const float cx = u[i] * pass.inv_cell + pass.offset, cy = v[i] * pass.inv_cell + pass.offset;
+      const float cx = u[i] * inv_cell + offset, cy = v[i] * inv_cell + offset;
       if (cx >= 0.f && cy >= 0.f && cx < cols && cy < rows) {
         float& d = depth[(static_cast<int>(cy) + pad) * pcols + static_cast<int>(cx) + pad];
         d = std::min(d, range[i]);
