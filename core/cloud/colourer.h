@@ -75,6 +75,10 @@ struct ColourStats {
   size_t unseen = 0;         // no camera images it (or not finite)
 };
 
+namespace cloud_internal {
+struct CameraPass;  // colourer_internal.h
+}
+
 class CloudColourer {
  public:
   // Precomputes each camera's usable region (and feather weights when blending) for `rig`;
@@ -97,10 +101,13 @@ class CloudColourer {
   struct CameraSetup;
   std::shared_ptr<const Rig> rig_;
   std::vector<std::shared_ptr<CameraSetup>> cameras_;
-  struct CameraPass;
-  // Phase 2 of colour() for nearest-centre fusion, on points [begin, end).
-  void nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options, size_t begin,
-                      size_t end) const;
+  using CameraPass = cloud_internal::CameraPass;
+  // Phase 2 of colour() on points [begin, end): nearest-centre fusion, or a feathered blend.
+  // Each sets every point's flags and camera, and counts them (all but ColourStats::points).
+  ColourStats nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
+                             size_t begin, size_t end) const;
+  ColourStats blend(PointCloud& cloud, const CameraImages& input, const ColourOptions& options, size_t begin,
+                    size_t end) const;
   // Scratch, reused between calls.
   std::vector<float> x_, y_, z_;  // points at the cloud's stamp, in the cloud frame
   std::vector<CameraPass> passes_;
