@@ -130,13 +130,13 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
       }
     });
   } else {
-    for_blocks(n, [&](size_t begin, size_t end) {
-      for (size_t i = begin; i < end; ++i) {
-        x_[i] = cloud.points[i].x();
-        y_[i] = cloud.points[i].y();
-        z_[i] = cloud.points[i].z();
-      }
-    });
+    // On this thread, not the pool: a copy bound by memory, which handed to the pool made
+    // the whole colouring slower (300 k points on 2 threads: 6.2 -> 4.0 ms without it).
+    for (size_t i = 0; i < n; ++i) {
+      x_[i] = cloud.points[i].x();
+      y_[i] = cloud.points[i].y();
+      z_[i] = cloud.points[i].z();
+    }
   }
 
   // Outputs, once nothing can throw.
