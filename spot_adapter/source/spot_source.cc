@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <mutex>
+#include <utility>
 
 #include "bosdyn/api/image_service.grpc.pb.h"
 #include "spot_adapter/convert/camera_model_from_source.h"
@@ -80,16 +81,21 @@ bool SpotSource::provides_clouds() const {
 
 void SpotSource::set_cloud_wanted(bool wanted) {
   std::lock_guard lock(mutex_);
+  if (wanted && !cloud_wanted_) cloud_rewanted_ = true;
   cloud_wanted_ = wanted;
 }
 
 std::shared_ptr<const PointCloud> SpotSource::next_cloud() {
-  bool wanted;
+  bool wanted, rewanted;
   {
     std::lock_guard lock(mutex_);
     wanted = cloud_wanted_;
+    rewanted = std::exchange(cloud_rewanted_, false);
   }
   auto answer = cloud_reader_.take();  // taken even when unwanted: a stale cloud is dropped
+  // The first cycle after nobody watched: what the reader holds answered a request of the
+  // last watcher's time, maybe minutes ago, and would be served as "the next cloud".
+  if (rewanted) answer = {};
   if (!wanted || cloud_source_.empty()) return nullptr;
   cloud_reader_.request(session_, cloud_source_);  // the next one, answered by a later image set
   std::string problem = answer.problem;

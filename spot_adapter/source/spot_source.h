@@ -109,6 +109,7 @@ class SpotSource : public Source {
   bool stopping_ = false;
   std::vector<bool> wanted_;  // by rig camera (= slot) index
   bool cloud_wanted_ = false;
+  bool cloud_rewanted_ = false;  // wanted again since the last cycle (next_cloud drops what is held)
   bool clouds_missing_ = false;  // connected, and the robot has no (such) point-cloud source
   std::shared_ptr<const std::map<std::string, double>> latest_joints_;
   std::shared_ptr<const Rig> rig_;

@@ -445,6 +445,21 @@ TEST_F(CloudApi, AStalledClientSlowsNobodyAndCloudsStopWithTheLastWatcher) {
   EXPECT_LE(cloud_calls(*mock_), calls + 1) << "clouds pulled with nobody watching";
 }
 
+TEST_F(CloudApi, AfterNobodyWatchedTheNextCloudIsNewNotTheLastWatchersLeftover) {
+  // A GetCloud leaves a request's answer behind; one asked for seconds later must not get it.
+  v1::PointCloud first, later;
+  ASSERT_TRUE(get_cloud(request(""), first).ok()) << daemon_->log();
+  std::this_thread::sleep_for(3s);  // nobody watches: no cloud is pulled, none may be kept as news
+  const auto asked = std::chrono::system_clock::now();
+  ASSERT_TRUE(get_cloud(request(""), later).ok()) << daemon_->log();
+  const auto stamp = std::chrono::system_clock::time_point(std::chrono::seconds(later.stamp().seconds()) +
+                                                           std::chrono::nanoseconds(later.stamp().nanos()));
+  const double age_s = std::chrono::duration<double>(asked - stamp).count();
+  // The mock's lidar answers with a scan of its time of answering (on this machine's clock).
+  EXPECT_LT(age_s, 1.0) << "captured " << age_s << " s before it was asked for (sequence " << later.sequence()
+                        << ", the first cloud's " << first.sequence() << ")";
+}
+
 TEST_F(CloudApi, StreamHonoursItsRate) {
   CloudReader reader(*stub_, 2, false);
   ASSERT_TRUE(eventually([&] { return reader.clouds() >= 1; }, 15s)) << daemon_->log();

@@ -151,6 +151,7 @@ void VelodyneSource::receive_loop() {
       }
     }
     std::lock_guard lock(mutex_);
+    if (!cloud_wanted_) pending_.reset();  // a rotation nobody took is stale for the next watcher
     ++packets_;
     if (!problem.empty()) {
       ++bad_packets_;
