@@ -22,9 +22,10 @@ constexpr const char* kColorizeHelp = R"(usage: omniview colorize --rig RIG.yaml
 Colours a point cloud from a calibrated rig and one image per camera: each point takes the
 colour of the camera that sees it nearest its image centre (or a feathered blend), unless a
 nearer surface of the cloud hides it in that camera. The robot is assumed still between the
-cloud and the images (all are taken as simultaneous). Points no camera colours keep their
-input colour, or none; the output's 'flags' (1 coloured, 2 occluded, 4 self) and 'camera'
-fields say what happened to each point.
+cloud and the images (all are taken as simultaneous). Points no camera colours keep the
+colour their input file gave them, else r, g, b 0; the output's 'flags' (1 coloured,
+2 occluded, 4 self) and 'camera' fields say what happened to each point. A camera given no
+--image colours nothing (said on stderr).
 
 )";
 
@@ -77,6 +78,17 @@ int colorize_command(const std::vector<std::string>& argv_in) {
   auto loaded = std::make_shared<LoadedRig>(load_rig_from_args(args));
   const std::shared_ptr<const Rig> rig(loaded, &loaded->rig);
   CameraImages images{read_images(args, *rig), {}};
+  // Allowed (a rig may have cameras the scan's moment has no picture of), but said: points
+  // only those cameras see come out unseen, which looks like a colouring fault otherwise.
+  std::vector<std::string> without;
+  for (size_t c = 0; c < images.images.size(); ++c) {
+    if (images.images[c].empty()) without.push_back(rig->cameras()[c].name);
+  }
+  if (!without.empty()) {
+    std::cerr << "omniview colorize: no image for camera" << (without.size() > 1 ? "s " : " ") << joined(without)
+              << ": the points only " << (without.size() > 1 ? "they see" : "it sees")
+              << " stay uncoloured (add --image CAM=PATH)\n";
+  }
   PointCloud cloud = load_cloud(args.get("cloud"));
   if (args.has("cloud-frame")) cloud.frame = args.get("cloud-frame");
   if (!cloud.frame.empty() && !rig->frames().try_lookup(rig->default_frame(), cloud.frame)) {

@@ -103,6 +103,17 @@ TEST_F(ColorizeCli, WithoutOcclusionTheHiddenPointTakesThePatchColour) {
   EXPECT_EQ(out.rgb[patch_], (PointCloud::Rgb{30, 200, 10}));
 }
 
+TEST_F(ColorizeCli, ACameraWithoutAnImageIsNamed) {
+  const auto r = run("--rig " + path("rig.yaml") + " --image front=" + path("front.png") + " --cloud " + path("in.pcd") +
+                     " -o " + path("out.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("no image for camera left: the points only it sees stay uncoloured (add --image CAM=PATH)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("1682 coloured"), std::string::npos) << "the left camera's point is unseen now: " << r.output;
+  EXPECT_EQ(run(inputs() + " -o " + path("all.ply")).output.find("no image for"), std::string::npos);
+}
+
 TEST_F(ColorizeCli, ClearErrors) {
   auto r = run(inputs());
   EXPECT_NE(r.exit_code, 0);
