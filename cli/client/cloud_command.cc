@@ -106,6 +106,12 @@ void save(const v1::PointCloud& message, const std::string& path, bool coloured_
             << c.occluded() << ", self-filtered " << c.self_filtered() << ", unseen " << c.unseen()
             << "; sequence " << message.sequence() << ", captured " << format_time(message.stamp()) << ", coloured in "
             << fixed(message.colour_ms(), 1) << " ms\n";
+  if (cloud.size() == 0 && message.input_points() > 0) {
+    std::cerr << "omniview cloud: " << path << " holds no point: "
+              << (message.point_count() == 0 ? "the crop box (--crop, in --frame) left none"
+                                              : "no point was coloured (--coloured-only)")
+              << "\n";
+  }
 }
 
 }  // namespace

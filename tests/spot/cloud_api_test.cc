@@ -544,6 +544,11 @@ TEST_F(CloudApi, CliSavesColouredPlyFiles) {
     EXPECT_GT(load_cloud((dir_.path() / name).string()).size(), 5000u) << name;
   }
 
+  // A crop box with nothing inside: the file is written, and why it is empty is said.
+  r = run_process(cli + " spot -o " + (dir_.path() / "empty.ply").string() + " --crop 50,50,50,51,51,51 --wait 20");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("holds no point: the crop box (--crop, in --frame) left none"), std::string::npos) << r.output;
+
   // Mistakes are named.
   r = run_process(cli + " spot -o " + one + " --voxel 0.001");
   EXPECT_NE(r.exit_code, 0);
