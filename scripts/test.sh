@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Installs, builds and runs the whole test suite (CTest), the way CI does:
-# - release: the programs, and the tests of the serving half (label `server`: daemon,
-#   sources, clients, whose time bounds are checked here at 1x) plus what only an optimised
-#   build can run (label `sweep`, the install tree);
+# - release: the programs, and the tests whose latency and rate bounds the sanitizer trees
+#   relax (label `timing`, checked here at 1x) plus what only an optimised build can run
+#   (label `sweep`, the install tree);
 # - every test under AddressSanitizer + UndefinedBehaviorSanitizer (time bounds x2);
-# - the serving half under ThreadSanitizer.
+# - the serving half (label `server`: daemon, sources, clients) under ThreadSanitizer.
 # Each stage's time is printed at the end (also when a stage fails), so a slower stage is
 # seen at once; ccache (scripts/install-deps.sh) keeps rebuilds of unchanged files cheap.
 set -euo pipefail
@@ -15,11 +15,12 @@ jobs=$(nproc)
 
 stage "install dependencies" bash scripts/install-deps.sh
 command -v ccache > /dev/null && ccache --zero-stats > /dev/null  # counts for this run only
-# The unit tests of the engine, configs, CLI and adapters run in the ASan tree only: they
-# time nothing, and the sanitizers check more than a release run would.
-stage "release: build" bash scripts/build.sh programs server_tests golden_test
+# Every other test runs in the sanitizer trees only (the serving half in both): their checks
+# do not depend on speed, the sanitizers check more than a release run would, and the
+# sanitizer trees build at -O2 -DNDEBUG like release.
+stage "release: build" bash scripts/build.sh programs timing_tests golden_test
 seed_test_costs build
-stage "release: tests" ctest --test-dir build --output-on-failure -j "$jobs" -L "server|sweep|packaging"
+stage "release: tests" ctest --test-dir build --output-on-failure -j "$jobs" -L "timing|sweep|packaging"
 
 # Sanitizer trees: -g1 (function names and lines, no variable info) keeps them quick to
 # build; no benchmarks, examples or other programs their tests do not run.
@@ -57,10 +58,13 @@ echo "== the serving half under ThreadSanitizer =="
 # Only the programs of the `server` tests (tests/CMakeLists.txt) are built in this tree.
 stage "tsan: configure" sanitizer_tree build-tsan OMNIVIEW_TSAN
 stage "tsan: build" cmake --build build-tsan -j "$jobs" --target server_tests
-# A `server` test whose program is not part of server_tests would silently not run here.
-server_test_count() { ctest --test-dir "$1" -N -L server | sed -n 's/^Total Tests: //p'; }
-[ "$(server_test_count build-tsan)" = "$(server_test_count build-asan)" ] ||
+# A `server` test whose program is not part of server_tests would silently not run here, nor
+# a `timing` test outside timing_tests in the release tree.
+test_count() { ctest --test-dir "$1" -N -L "$2" | sed -n 's/^Total Tests: //p'; }
+[ "$(test_count build-tsan server)" = "$(test_count build-asan server)" ] ||
   { echo "a test labelled server is not built by the server_tests target (tests/CMakeLists.txt)" >&2; exit 1; }
+[ "$(test_count build timing)" = "$(test_count build-asan timing)" ] ||
+  { echo "a test labelled timing is not built by the timing_tests target (tests/CMakeLists.txt)" >&2; exit 1; }
 seed_test_costs build-tsan
 stage "tsan: tests" env OMNIVIEW_THREADS=1 OMNIVIEW_TEST_TIME_SCALE=3 \
   TSAN_OPTIONS="suppressions=$PWD/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
