@@ -31,15 +31,24 @@ video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point ar
     pixels = &grey_;
   }
   const auto now = Clock::now();
-  // The rate frames really come at (the source's, or the group's if lower), averaged.
+  // The rate frames really come at (the source's, or the group's if lower), averaged: the
+  // plain mean of the first ten intervals, exponential after.
   if (last_arrival_ != Clock::time_point{} && arrival > last_arrival_) {
     const double interval = std::chrono::duration<double>(arrival - last_arrival_).count();
-    mean_interval_s_ = mean_interval_s_ == 0 ? interval : 0.9 * mean_interval_s_ + 0.1 * interval;
+    const double weight = std::max(0.1, 1.0 / ++intervals_);
+    mean_interval_s_ = (1 - weight) * mean_interval_s_ + weight * interval;
   }
+  if (first_arrival_ == Clock::time_point{}) first_arrival_ = arrival;
   last_arrival_ = arrival;
   if (!encoder_ || encoder_->settings().width != pixels->cols || encoder_->settings().height != pixels->rows) {
-    double fps = view_fps > 0 ? view_fps : (mean_interval_s_ > 0 ? 1.0 / mean_interval_s_ : 0.0);
-    if (fps <= 0) return {};  // the next frame tells the rate
+    double fps = view_fps;
+    if (fps <= 0) {
+      // One interval is noise (two frames of a burst read 34 Hz from a 15 Hz robot under
+      // load, and players would run the stream twice too fast): four, or a second's worth.
+      const bool known = intervals_ >= kRateIntervals || (intervals_ > 0 && arrival - first_arrival_ >= kRateWindow);
+      if (!known) return {};  // the next frames tell the rate
+      fps = 1.0 / mean_interval_s_;
+    }
     if (key_.rate_mhz > 0) fps = std::min(fps, key_.rate_mhz / 1000.0);
     video::H264Settings settings;
     settings.width = pixels->cols;

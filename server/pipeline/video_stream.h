@@ -29,6 +29,10 @@ class VideoStream {
   // A key frame at least this often even when nobody asks (a decoder that lost its way
   // recovers by itself).
   static constexpr std::chrono::seconds kMaxKeyInterval{10};
+  // A stream that measures its own rate declares it after this many frame intervals, or
+  // after this long for a slow view (~270 ms at 15 Hz before its first frame).
+  static constexpr int kRateIntervals = 4;
+  static constexpr std::chrono::seconds kRateWindow{1};
 
   explicit VideoStream(const EncodingKey& key);
 
@@ -47,9 +51,9 @@ class VideoStream {
   // Encoder thread: `image` (grey or BGR; made grey for a gray key) as the next access unit.
   // `view_fps` is the rate the view's frames come at now (0: not known yet). The stream's
   // SPS declares its frame rate (players time a raw stream by it), so a new encoder takes
-  // the view's rate, capped by the group's; when neither that nor an interval between two
-  // frames is known yet, the first frame only starts the clock and an empty access unit
-  // comes back (nothing to send).
+  // the view's rate, capped by the group's; without it, the stream measures the rate itself
+  // over its first kRateIntervals intervals (or kRateWindow), and until then each frame
+  // only times the rate and an empty access unit comes back (nothing to send).
   // Throws std::invalid_argument where the image cannot be H.264 (an odd size), or
   // std::runtime_error if the encoder fails.
   video::AccessUnit encode(const cv::Mat& image, Clock::time_point arrival, double view_fps = 0);
@@ -62,7 +66,9 @@ class VideoStream {
   mutable std::mutex mutex_;  // the encoder's state (the pool runs one job per group at a time anyway)
   std::unique_ptr<video::H264Encoder> encoder_;
   Clock::time_point last_key_{};
+  Clock::time_point first_arrival_{};
   Clock::time_point last_arrival_{};
+  int intervals_ = 0;
   double mean_interval_s_ = 0;
   cv::Mat grey_;
 };
