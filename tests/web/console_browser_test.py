@@ -17,17 +17,16 @@ from harness import OPERATOR_TOKEN, VIEWER_TOKEN, seconds
 ARGS = None
 
 
-def browser(width=1280, height=800):
+WINDOW = (1280, 800)  # the browser's window; open() emulates other sizes (a phone's)
+
+
+def browser():
     options = Options()
     options.binary_location = "/usr/bin/chromium"
     for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-              f"--window-size={width},{height}", "--use-gl=swiftshader", "--enable-unsafe-swiftshader"):
+              f"--window-size={WINDOW[0]},{WINDOW[1]}", "--use-gl=swiftshader", "--enable-unsafe-swiftshader"):
         options.add_argument(a)
-    driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
-    if width < 500:  # headless Chromium's windows are at least 500 px wide: a phone's viewport is emulated
-        driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
-                               {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
-    return driver
+    return webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
 
 
 def wait_until(predicate, timeout, what):
@@ -61,15 +60,31 @@ class ConsoleBrowserTest(unittest.TestCase):
         # The furnished room: what the README's screenshot shows.
         cls.robot = harness.Robot(ARGS, scene="room").__enter__()
         cls.url = f"http://{cls.robot.web}/"
+        # One Chromium for the class (each start costs a second); every page opens in a tab of
+        # its own, closed after its test, so no page sees another's sessionStorage (where the
+        # console keeps its token), scripts or streams. test_zz_... quits a browser of its own.
+        cls.chromium = browser()
+        cls.home_tab = cls.chromium.current_window_handle
 
     @classmethod
     def tearDownClass(cls):
+        cls.chromium.quit()
         code = cls.robot.stop()
         assert code == 0, f"omniviewd exited with {code}:\n{cls.robot.log.read_text()}"
 
-    def open(self, token, query="?layout=single&view=front", width=1280, height=800):
-        driver = browser(width, height)
-        self.addCleanup(driver.quit)
+    def open(self, token, query="?layout=single&view=front", width=WINDOW[0], height=WINDOW[1]):
+        driver = self.chromium
+        driver.switch_to.new_window("tab")
+        tab = driver.current_window_handle
+
+        def close_tab():
+            driver.switch_to.window(tab)
+            driver.close()
+            driver.switch_to.window(self.home_tab)
+        self.addCleanup(close_tab)
+        if (width, height) != WINDOW:  # headless windows are at least 500 px wide: a phone is emulated
+            driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                                   {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
         driver.get(self.url + query + (f"#token={token}" if token else ""))
         return driver
 
