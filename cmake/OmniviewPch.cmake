@@ -9,9 +9,9 @@
 #   each set is compiled once per tree (a precompiled header costs 10-20 s and 150-350 MB;
 #   there are a handful of sets, against ~70 targets);
 # - GCC uses a precompiled header only when the flags match, so a target with compile
-#   options of its own (core's -O3, generated code's -w) compiles its own when it has
-#   several sources, and goes without otherwise; -Winvalid-pch makes any mismatch show in
-#   the build log.
+#   options of its own (core's -O3, generated code's -w) shares a host with the targets of
+#   the same options when it has several sources, and goes without otherwise;
+#   -Winvalid-pch makes any mismatch show in the build log.
 # Only third-party and standard headers go in, so a change to our own headers rebuilds
 # exactly what it did before. OMNIVIEW_PCH=OFF builds without (to check that every file
 # includes what it uses).
@@ -112,10 +112,12 @@ function(omniview_precompile_headers)
       set(own_options TRUE)
     endif()
     if(NOT own_options)
-      _omniview_pch_host(${key} "${headers}" ${target} host)
+      _omniview_pch_host(${key} "${headers}" ${target} "" host)
       target_precompile_headers(${target} REUSE_FROM ${host})
     elseif(source_count GREATER_EQUAL 4)
-      target_precompile_headers(${target} PRIVATE ${headers})
+      # Targets with the same options share a host too (core, cloud and robot: -O3).
+      _omniview_pch_host(${key} "${headers}" ${target} "${options}" host)
+      target_precompile_headers(${target} REUSE_FROM ${host})
     else()
       continue()
     endif()
@@ -124,10 +126,15 @@ function(omniview_precompile_headers)
 endfunction()
 
 # A host target whose only job is to compile the precompiled header for one set of
-# dependencies, with the default flags; made on first use, linking what `example` links
-# so the include paths and definitions match.
-function(_omniview_pch_host key headers example out)
+# dependencies and compile options (empty: the default flags); made on first use, linking
+# what `example` links so the include paths and definitions match.
+function(_omniview_pch_host key headers example options out)
   set(host omniview_pch${key})
+  if(options)
+    string(MD5 options_hash "${options}")
+    string(SUBSTRING ${options_hash} 0 8 options_hash)
+    string(APPEND host _${options_hash})
+  endif()
   if(NOT TARGET ${host})
     set(empty ${PROJECT_BINARY_DIR}/pch/${host}.cc)
     file(WRITE ${empty} "// Compiles the precompiled header of ${host} (cmake/OmniviewPch.cmake).\n")
@@ -135,7 +142,7 @@ function(_omniview_pch_host key headers example out)
     get_target_property(libs ${example} LINK_LIBRARIES)
     target_link_libraries(${host} PRIVATE ${libs})
     target_precompile_headers(${host} PRIVATE ${headers})
-    target_compile_options(${host} PRIVATE -Winvalid-pch)
+    target_compile_options(${host} PRIVATE ${options} -Winvalid-pch)
   endif()
   set(${out} ${host} PARENT_SCOPE)
 endfunction()
