@@ -9,8 +9,8 @@
 #   each set is compiled once per tree (a precompiled header costs 10-20 s and 150-350 MB;
 #   there are a handful of sets, against ~70 targets);
 # - GCC uses a precompiled header only when the flags match, so a target with compile
-#   options of its own (core's -O3, generated code's -w) shares a host with the targets of
-#   the same options when it has several sources, and goes without otherwise;
+#   options of its own (core's -O3, generated code's -w) shares one header with the targets
+#   of the same options when it has several sources, and goes without otherwise;
 #   -Winvalid-pch makes any mismatch show in the build log.
 # Only third-party and standard headers go in, so a change to our own headers rebuilds
 # exactly what it did before. OMNIVIEW_PCH=OFF builds without (to check that every file
@@ -112,12 +112,20 @@ function(omniview_precompile_headers)
       set(own_options TRUE)
     endif()
     if(NOT own_options)
-      _omniview_pch_host(${key} "${headers}" ${target} "" host)
+      _omniview_pch_host(${key} "${headers}" ${target} host)
       target_precompile_headers(${target} REUSE_FROM ${host})
     elseif(source_count GREATER_EQUAL 4)
-      # Targets with the same options share a host too (core, cloud and robot: -O3).
-      _omniview_pch_host(${key} "${headers}" ${target} "${options}" host)
-      target_precompile_headers(${target} REUSE_FROM ${host})
+      # The first target with these options and dependencies compiles the header, the
+      # rest reuse it (core, cloud and robot: -O3). Not a host target: one made here, at the
+      # top level, could not see packages a target's own folder finds (web's Boost).
+      string(MD5 options_key "${key} ${options}")
+      get_property(owner GLOBAL PROPERTY _omniview_pch_owner_${options_key})
+      if(owner)
+        target_precompile_headers(${target} REUSE_FROM ${owner})
+      else()
+        set_property(GLOBAL PROPERTY _omniview_pch_owner_${options_key} ${target})
+        target_precompile_headers(${target} PRIVATE ${headers})
+      endif()
     else()
       continue()
     endif()
@@ -126,15 +134,10 @@ function(omniview_precompile_headers)
 endfunction()
 
 # A host target whose only job is to compile the precompiled header for one set of
-# dependencies and compile options (empty: the default flags); made on first use, linking
-# what `example` links so the include paths and definitions match.
-function(_omniview_pch_host key headers example options out)
+# dependencies, with the default flags; made on first use, linking what `example` links
+# so the include paths and definitions match.
+function(_omniview_pch_host key headers example out)
   set(host omniview_pch${key})
-  if(options)
-    string(MD5 options_hash "${options}")
-    string(SUBSTRING ${options_hash} 0 8 options_hash)
-    string(APPEND host _${options_hash})
-  endif()
   if(NOT TARGET ${host})
     set(empty ${PROJECT_BINARY_DIR}/pch/${host}.cc)
     file(WRITE ${empty} "// Compiles the precompiled header of ${host} (cmake/OmniviewPch.cmake).\n")
@@ -142,7 +145,7 @@ function(_omniview_pch_host key headers example options out)
     get_target_property(libs ${example} LINK_LIBRARIES)
     target_link_libraries(${host} PRIVATE ${libs})
     target_precompile_headers(${host} PRIVATE ${headers})
-    target_compile_options(${host} PRIVATE ${options} -Winvalid-pch)
+    target_compile_options(${host} PRIVATE -Winvalid-pch)
   endif()
   set(${out} ${host} PARENT_SCOPE)
 endfunction()

@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <stdexcept>
 
 #include <opencv2/core.hpp>
@@ -51,7 +50,7 @@ std::atomic<bool> g_simd_enabled{true};
 // start after and finish before. A thread that writes a camera image or the output (or
 // frees it) while a frame is applied is reported as before; only a race between two of
 // this call's own workers is not, and cv::parallel_for_ gives each row to one worker.
-void declare_to_thread_sanitizer(const FusionMap& map, const std::vector<Source>& sources, const cv::Mat& out) {
+void declare_to_thread_sanitizer(const FusionMap& map, const std::vector<Source>& sources, cv::Mat& out) {
   if (!thread_sanitizer::active) return;
   for (const Source& s : sources) {
     if (s.data != nullptr) thread_sanitizer::reads(s.data, s.stride * static_cast<size_t>(s.rows));
@@ -60,7 +59,7 @@ void declare_to_thread_sanitizer(const FusionMap& map, const std::vector<Source>
   thread_sanitizer::reads(map.secondary.data(), map.secondary.size() * sizeof(MapEntry));
   thread_sanitizer::reads(map.primary_weight.data(),
                           map.primary_weight.size() * sizeof(map.primary_weight[0]));
-  thread_sanitizer::writes(out.data, out.total() * out.elemSize());
+  for (int row = 0; row < out.rows; ++row) thread_sanitizer::writes(out.ptr(row), out.cols * out.elemSize());
 }
 
 }  // namespace

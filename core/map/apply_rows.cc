@@ -12,7 +12,6 @@
 namespace omniview::apply_internal {
 namespace {
 
-
 // Colour pixels are interpolated with GCC/Clang vector extensions: eight 16-bit lanes
 // hold a pixel and its right neighbour (B G R x B' G' R' x), which maps onto SSE2 on
 // x86-64 and NEON on ARM64 with no per-platform code. Two linear steps in 1/256 keep every
@@ -48,8 +47,6 @@ using U16x8 = uint16_t __attribute__((vector_size(16)));
   }
 }
 
-// Writes 4 bytes to out: the pixel and a byte the next pixel overwrites (the caller keeps
-// the row's last pixel off this path).
 // Horizontal weight vectors {256 - fx x4, fx x4} for every fx: one 4 KiB table in L1
 // instead of building the vector per pixel.
 struct HorizontalWeights {
@@ -63,6 +60,8 @@ struct HorizontalWeights {
 };
 const HorizontalWeights kHorizontalWeights;
 
+// Writes 4 bytes to out: the pixel and a byte the next pixel overwrites (the caller keeps
+// the row's last pixel off this path).
 [[gnu::always_inline]] inline void bilinear3(const Source& s, const MapEntry& e, uint8_t* out) {
   if (e.offset >= s.last_footprint) return bilinear3_edge(s, e, out);
   const uint8_t* p = s.data + size_t{e.offset} * 3;

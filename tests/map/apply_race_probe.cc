@@ -4,7 +4,7 @@
 // so this race is reported only if apply_map declares the image it reads: CTest expects
 // the report, naming apply_map.
 #include <algorithm>
-#include <chrono>
+#include <atomic>
 #include <cstdio>
 #include <thread>
 #include <vector>
@@ -29,10 +29,14 @@ int main() {
   std::vector<cv::Mat> images = {cv::Mat(kSide, kSide, CV_8UC1, cv::Scalar(0))};
   // The camera's next picture, written into the image the frame is made from (the bug a
   // source without double buffering would have).
+  // Relaxed: apply_map starts after the writes (so TSan reports apply_map's read, the
+  // regex's order) with no happens-before edge between them.
+  std::atomic<bool> written{false};
   std::thread writer([&] {
     for (int i = 0; i < kSide * kSide; ++i) images[0].data[i] = static_cast<uint8_t>(i);
+    written.store(true, std::memory_order_relaxed);
   });
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // no happens-before edge
+  while (!written.load(std::memory_order_relaxed)) std::this_thread::yield();
   cv::Mat out;
   omniview::apply_map(map, images, out, 1);
   writer.join();

@@ -10,6 +10,7 @@ from selenium.webdriver.chrome.options import Options
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
+from selenium.common.exceptions import NoSuchWindowException
 
 import harness
 from harness import OPERATOR_TOKEN, VIEWER_TOKEN, seconds
@@ -63,24 +64,36 @@ class ConsoleBrowserTest(unittest.TestCase):
         # One Chromium for the class (each start costs a second); every page opens in a tab of
         # its own, closed after its test, so no page sees another's sessionStorage (where the
         # console keeps its token), scripts or streams. test_zz_... quits a browser of its own.
-        cls.chromium = browser()
+        try:
+            cls.chromium = browser()
+        except BaseException:
+            cls.robot.stop()  # tearDownClass does not run when setUpClass fails
+            raise
         cls.home_tab = cls.chromium.current_window_handle
 
     @classmethod
     def tearDownClass(cls):
-        cls.chromium.quit()
-        code = cls.robot.stop()
-        assert code == 0, f"omniviewd exited with {code}:\n{cls.robot.log.read_text()}"
+        try:
+            cls.chromium.quit()
+        finally:
+            code = cls.robot.stop()
+            assert code == 0, f"omniviewd exited with {code}:\n{cls.robot.log.read_text()}"
 
     def open(self, token, query="?layout=single&view=front", width=WINDOW[0], height=WINDOW[1]):
+        """A page in a new tab (the returned driver is the class's, switched to it)."""
         driver = self.chromium
+        driver.switch_to.window(self.home_tab)  # a window that exists, whatever the last test left
         driver.switch_to.new_window("tab")
         tab = driver.current_window_handle
 
         def close_tab():
-            driver.switch_to.window(tab)
-            driver.close()
-            driver.switch_to.window(self.home_tab)
+            try:
+                driver.switch_to.window(tab)
+                driver.close()
+            except NoSuchWindowException:  # the page went by itself
+                pass
+            finally:
+                driver.switch_to.window(self.home_tab)
         self.addCleanup(close_tab)
         if (width, height) != WINDOW:  # headless windows are at least 500 px wide: a phone is emulated
             driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
@@ -290,7 +303,7 @@ class ConsoleBrowserTest(unittest.TestCase):
         wait_until(lambda: driver.find_element(By.ID, "login").is_displayed(), seconds(10), "the login form")
         self.assertIn("unknown token", driver.find_element(By.ID, "status").text)
         self.assertEqual(self.frames(driver), 0)
-        no_token = self.open(None)
+        no_token = self.open(None)  # the same driver, now on the second tab
         wait_until(lambda: no_token.find_element(By.ID, "login").is_displayed(), seconds(10), "the login form")
 
     def test_phone_layout_fits(self):
@@ -423,6 +436,7 @@ class ConsoleBrowserTest(unittest.TestCase):
         downloads = self.robot.dir / "downloads"
         downloads.mkdir(exist_ok=True)
         driver.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "allow", "downloadPath": str(downloads)})
+        self.addCleanup(driver.execute_cdp_cmd, "Browser.setDownloadBehavior", {"behavior": "default"})
         driver.find_element(By.ID, "snapshot").click()
         # JPEG as received, or the last decoded H.264 picture as PNG.
         shot = wait_until(lambda: [p for p in downloads.glob("front-*.*") if p.suffix in (".jpg", ".png")
