@@ -445,8 +445,8 @@ class ConsoleBrowserTest(unittest.TestCase):
             self.assertEqual(shot.read_bytes()[:8], b"\x89PNG\r\n\x1a\n")
         else:
             self.assertEqual(shot.read_bytes()[:2], b"\xff\xd8")
-        self.robot.mock_control("--set", "away=true")
         try:
+            self.robot.mock_control("--set", "away=true")
             banner = wait_until(lambda: (lambda b: b.text if b.is_displayed() else None)(
                 driver.find_element(By.ID, "banner")), seconds(10), "the disconnected/stale banner")
             self.assertTrue("Robot disconnected" in banner or "Not live" in banner, banner)
