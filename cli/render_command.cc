@@ -11,11 +11,11 @@
 #include <sstream>
 
 #include <opencv2/core/utils/logger.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "cli/args.h"
 #include "cli/rig_args.h"
+#include "core/io/image_codec.h"
 #include "core/io/yaml_reader.h"
 #include "core/gain/gain_compensator.h"
 #include "core/map/apply.h"
@@ -140,17 +140,8 @@ void check_view_frame(const NamedView& view, const LoadedRig& loaded) {
 
 // ---- output paths ----
 
-// The image formats we offer for --out: those this OpenCV build writes from 8-bit images.
-const std::vector<std::string>& writable_extensions() {
-  static const std::vector<std::string> writable = [] {
-    std::vector<std::string> out;
-    for (const char* ext : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".webp", ".ppm", ".pgm"}) {
-      if (cv::haveImageWriter(std::string("x") + ext)) out.push_back(ext);
-    }
-    return out;
-  }();
-  return writable;
-}
+// The image formats we offer for --out (core/io/image_codec.h).
+const std::vector<std::string>& writable_extensions() { return writable_image_extensions(); }
 
 std::string lowercase_extension(const std::string& path) {
   std::string ext = fs::path(path).extension().string();
@@ -257,7 +248,7 @@ void render_and_write(const PreparedView& p, const std::vector<cv::Mat>& images,
   apply_map(p.map, images, result, channels, gains.update(p.map, images, channels));
   const double apply_ms = ms_since(t0);
   if (const fs::path folder = fs::path(path).parent_path(); !folder.empty()) fs::create_directories(folder);
-  if (!cv::imwrite(path, result)) throw std::runtime_error("cannot write '" + path + "'");
+  write_image(path, result);
   const ViewSpec& spec = p.view->spec;
   std::cout << std::fixed << std::setprecision(1) << path << ": " << spec.name << " (" << to_string(spec.type) << " "
             << spec.width << "x" << spec.height << "), coverage " << 100 * p.map.coverage() << " %, map "

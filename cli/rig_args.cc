@@ -5,9 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
+#include "core/io/image_codec.h"
 #include "core/io/yaml_reader.h"
 
 namespace omniview::cli {
@@ -86,17 +84,15 @@ LoadedRig load_rig_from_args(const Args& args) {
 
 namespace {
 
-// cv::imread says neither "missing" nor "not an image"; we tell them apart.
+// A missing file, a folder and a file that is no image each get their own message.
 cv::Mat read_camera_image(const Camera& camera, const std::string& path) {
   const std::string who = "camera '" + camera.name + "': ";
   std::error_code ec;
   if (!fs::exists(path, ec)) throw std::runtime_error(who + "image file '" + path + "' does not exist");
   if (fs::is_directory(path, ec)) throw std::runtime_error(who + "'" + path + "' is a folder, not an image");
-  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) throw std::runtime_error(who + "'" + path + "' is not a decodable image");
-  if (img.depth() != CV_8U) throw std::runtime_error(who + "image '" + path + "' is not 8-bit");
-  if (img.channels() == 4) cv::cvtColor(img, img, cv::COLOR_BGRA2BGR);
-  if (img.channels() == 2) throw std::runtime_error(who + "image '" + path + "' has 2 channels");
+  std::string why;
+  cv::Mat img = read_image(path, ImageColour::kAsStored, &why);
+  if (img.empty()) throw std::runtime_error(who + "'" + path + "' is " + why);
   if (img.cols != camera.width || img.rows != camera.height) {
     throw std::runtime_error(who + "image '" + path + "' is " + std::to_string(img.cols) + "x" +
                              std::to_string(img.rows) + ", but the camera is calibrated for " +
@@ -133,6 +129,5 @@ std::vector<cv::Mat> read_images(const Args& args, const Rig& rig) {
   }
   return images;
 }
-
 
 }  // namespace omniview::cli

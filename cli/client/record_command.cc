@@ -4,7 +4,6 @@
 
 #include <filesystem>
 #include <iostream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
@@ -12,6 +11,7 @@
 #include "cli/client/command_support.h"
 #include "cli/client/connection.h"
 #include "core/cloud/cloud_file.h"
+#include "core/io/image_codec.h"
 #include "core/io/yaml_reader.h"
 #include "core/rig/rig.h"
 #include "server/recording/recording.h"
@@ -61,7 +61,7 @@ RecordedImage to_recorded(const v1::CameraImage& image) {
   cv::Mat pixels(image.height(), image.width(), channels == 1 ? CV_8UC1 : CV_8UC3,
                  const_cast<char*>(image.data().data()));
   if (channels == 3) cv::cvtColor(pixels, pixels, cv::COLOR_RGB2BGR);
-  cv::imencode(".png", pixels, recorded.bytes);
+  recorded.bytes = encode_png(pixels);
   recorded.format = "png";
   return recorded;
 }

@@ -7,7 +7,6 @@
 #include <iostream>
 
 #include <opencv2/highgui.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "cli/client/client_commands.h"
@@ -15,6 +14,7 @@
 #include "cli/client/connection.h"
 #include "cli/client/display_probe.h"
 #include "cli/client/frame_files.h"
+#include "core/io/image_codec.h"
 
 namespace omniview::cli {
 namespace {
@@ -163,7 +163,7 @@ int show_command(const std::vector<std::string>& argv) {
   while (reader->Read(&frame)) {
     if (frames++ == 0) print_stream_note(context);
     const std::string& data = frame.data();
-    cv::Mat image = cv::imdecode(std::vector<uchar>(data.begin(), data.end()), cv::IMREAD_UNCHANGED);
+    cv::Mat image = decode_image(data);
     // The last picture again (still steerable): marked, so nobody takes it for live.
     if (stale.check(frame) && !image.empty()) draw_stale_banner(image, frame.stale_reason());
     if (!image.empty()) cv::imshow(title, image);

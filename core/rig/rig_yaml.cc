@@ -3,8 +3,7 @@
 #include <fstream>
 #include <set>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "core/io/image_codec.h"
 #include "core/io/yaml_reader.h"
 #include "core/rig/rig.h"
 
@@ -53,14 +52,11 @@ void add_or_fail(const YamlReader& r, const YAML::Node& n, const std::string& pa
   }
 }
 
-// Missing and undecodable masks get different messages (cv::imread says neither).
+// Missing and undecodable masks get different messages.
 cv::Mat read_mask(const YamlReader& r, const YAML::Node& n, const std::string& path, const std::string& file) {
-  std::error_code ec;
-  const std::string what = "cannot read mask image '" + file + "': ";
-  if (!std::filesystem::exists(file, ec)) r.fail(n, path, what + "no such file");
-  if (std::filesystem::is_directory(file, ec)) r.fail(n, path, what + "it is a folder");
-  cv::Mat mask = cv::imread(file, cv::IMREAD_GRAYSCALE);
-  if (mask.empty()) r.fail(n, path, what + "not a decodable image");
+  std::string why;
+  cv::Mat mask = read_image(file, ImageColour::kGrey, &why);
+  if (mask.empty()) r.fail(n, path, "cannot read mask image '" + file + "': " + why);
   return mask;
 }
 
@@ -319,7 +315,7 @@ void save_rig_yaml(const Rig& rig, const std::string& path) {
     }
     mask_files.push_back(cam.name + "_mask.png");
     const auto mask_path = (file.parent_path() / mask_files.back()).string();
-    if (!cv::imwrite(mask_path, cam.mask)) throw std::runtime_error("cannot write mask image '" + mask_path + "'");
+    write_image(mask_path, cam.mask);
   }
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << rig_yaml_text(rig, mask_files);

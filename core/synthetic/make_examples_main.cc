@@ -10,8 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "core/io/image_codec.h"
 #include "core/rig/rig.h"
 #include "core/synthetic/render.h"
 
@@ -21,11 +20,9 @@ namespace {
 constexpr size_t kMaxBytes = 250 * 1024;
 
 void write_jpeg(const cv::Mat& image, const std::filesystem::path& path) {
-  std::vector<uchar> bytes;
+  std::vector<uint8_t> bytes;
   for (int quality = 90; quality >= 50; quality -= 5) {
-    if (!cv::imencode(".jpg", image, bytes, {cv::IMWRITE_JPEG_QUALITY, quality})) {
-      throw std::runtime_error("cannot encode " + path.string());
-    }
+    bytes = omniview::encode_jpeg(image, quality);
     if (bytes.size() <= kMaxBytes) break;
   }
   std::FILE* f = std::fopen(path.c_str(), "wb");

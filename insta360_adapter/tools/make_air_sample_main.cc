@@ -12,8 +12,7 @@
 #include <iostream>
 #include <random>
 
-#include <opencv2/imgcodecs.hpp>
-
+#include "core/io/image_codec.h"
 #include "core/synthetic/render.h"
 #include "insta360_adapter/source/capture_config.h"
 #include "server/config/daemon_config.h"
@@ -64,11 +63,10 @@ int main(int argc, char** argv) {
     // A camera's frame times jitter by a millisecond or so around its 30 Hz.
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> jitter(-0.0015, 0.0015);
-    std::vector<uchar> jpeg;
     for (int i = 0; i < frames; ++i) {
       char name[32];
       std::snprintf(name, sizeof name, "frame_%04d.jpg", i);
-      cv::imencode(".jpg", frame, jpeg, {cv::IMWRITE_JPEG_QUALITY, quality});
+      const std::vector<uint8_t> jpeg = encode_jpeg(frame, quality);
       std::ofstream(std::filesystem::path(out) / name, std::ios::binary).write(reinterpret_cast<const char*>(jpeg.data()), std::streamsize(jpeg.size()));
       char line[64];
       std::snprintf(line, sizeof line, "%.4f %s\n", 100.0 + i / 30.0 + (i ? jitter(rng) : 0), name);

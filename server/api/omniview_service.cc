@@ -5,9 +5,9 @@
 #include <sstream>
 
 #include <google/protobuf/util/time_util.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/cloud/cloud_file.h"
+#include "core/io/image_codec.h"
 #include "core/rig/rig.h"
 #include "server/api/request_bounds.h"
 #include "server/api/service_support.h"
@@ -47,10 +47,7 @@ v1::SourceFrame to_source_frame(const FrameSet& frames, uint64_t skipped_before,
       image->set_data(encoded->bytes->data(), encoded->bytes->size());
       continue;
     }
-    std::vector<uint8_t> png;
-    if (!cv::imencode(".png", img, png, {cv::IMWRITE_PNG_COMPRESSION, 1})) {
-      throw std::runtime_error("cannot PNG-encode the image of camera '" + cams[i].name + "'");
-    }
+    const std::vector<uint8_t> png = encode_png(img);
     image->set_encoding(v1::PNG);
     image->set_data(png.data(), png.size());
   }

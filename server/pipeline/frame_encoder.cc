@@ -3,10 +3,10 @@
 #include <stdexcept>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <turbojpeg.h>
 
+#include "core/io/image_codec.h"
 #include "server/pipeline/video_stream.h"
 #include "server/video/h264_encoder.h"
 
@@ -125,9 +125,7 @@ void encode_frame(const cv::Mat& image, const EncodingKey& key, v1::Frame& frame
     frame.set_data(rgb.data, rgb.total() * rgb.elemSize());
     return;
   }
-  std::vector<uint8_t> bytes;
-  const std::vector<int> params = {cv::IMWRITE_PNG_COMPRESSION, 1};  // fast: a stream is no archive
-  if (!cv::imencode(".png", pixels, bytes, params)) throw std::runtime_error("cannot encode PNG");
+  const std::vector<uint8_t> bytes = encode_png(pixels);  // fast settings: a stream is no archive
   frame.set_data(bytes.data(), bytes.size());
 }
 

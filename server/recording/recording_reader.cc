@@ -6,9 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
+#include "core/io/image_codec.h"
 #include "core/io/yaml_reader.h"
 #include "server/recording/recording.h"
 
@@ -218,9 +216,8 @@ std::vector<cv::Mat> Recording::load_images(const RecordingFrame& frame, std::ve
     in.seekg(0);
     in.read(reinterpret_cast<char*>(bytes->data()), static_cast<std::streamsize>(bytes->size()));
     if (!in) bytes->clear();  // unreadable: reported as corrupt below
-    cv::Mat image = bytes->empty() ? cv::Mat() : cv::imdecode(*bytes, cv::IMREAD_ANYCOLOR);
+    cv::Mat image = bytes->empty() ? cv::Mat() : decode_image(*bytes);
     if (image.empty()) throw std::runtime_error(path + ": corrupt image of camera '" + camera_names[i] + "'");
-    if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
     const Camera& cam = rig.cameras()[i];
     if (image.cols != cam.width || image.rows != cam.height) {
       throw std::runtime_error(path + ": image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +

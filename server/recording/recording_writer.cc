@@ -27,10 +27,10 @@
 #include <mutex>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include "core/cloud/cloud_file.h"
+#include "core/io/image_codec.h"
 #include "server/recording/recording.h"
 
 namespace omniview {
@@ -238,8 +238,8 @@ void RecordingWriter::write(const FrameSet& frames) {
     if (has_bytes) {
       image.format = encoded->format;
       image.bytes = *encoded->bytes;
-    } else if (!cv::imencode(".png", mat, image.bytes)) {
-      throw std::runtime_error("recording: cannot PNG-encode camera '" + cameras[i].name + "' image");
+    } else {
+      image.bytes = encode_png(mat);
     }
     images.push_back(std::move(image));
   }

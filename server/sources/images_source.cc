@@ -5,9 +5,7 @@
 #include <fstream>
 #include <iterator>
 
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
-
+#include "core/io/image_codec.h"
 #include "server/sources/source_config_helpers.h"
 
 namespace omniview {
@@ -37,12 +35,10 @@ ImagesSource::CameraImage load_camera_image(const SourceConfig& config, const YA
   std::ifstream in(path, std::ios::binary);
   auto bytes = std::make_shared<std::vector<uint8_t>>();
   if (in) bytes->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  // As cv::imread(path, IMREAD_ANYCOLOR) would, and as a replay of a recording will.
-  cv::Mat image = bytes->empty() ? cv::Mat() : cv::imdecode(*bytes, cv::IMREAD_ANYCOLOR);
-  if (image.empty()) {
-    r.fail(node, key, "cannot read image '" + path + "' for camera '" + cam.name + "' (missing or corrupt)");
-  }
-  if (image.channels() == 4) cv::cvtColor(image, image, cv::COLOR_BGRA2BGR);
+  // Grey stays grey, colour becomes BGR, as a replay of a recording will decode it.
+  std::string why = "missing, unreadable or empty";
+  cv::Mat image = bytes->empty() ? cv::Mat() : decode_image(*bytes, ImageColour::kAsStored, &why);
+  if (image.empty()) r.fail(node, key, "cannot read image '" + path + "' for camera '" + cam.name + "': " + why);
   if (image.cols != cam.width || image.rows != cam.height) {
     r.fail(node, key, "image '" + path + "' is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                           ", camera '" + cam.name + "' is calibrated for " + std::to_string(cam.width) + "x" +

@@ -1,8 +1,8 @@
 #include "spot_adapter/convert/image_from_response.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/io/image_codec.h"
 #include "spot_adapter/client/spot_error.h"
 
 namespace omniview::spot {
@@ -88,15 +88,13 @@ DecodedImage decode_image_response(const api::ImageResponse& response, const std
       if (w != width || h != height) {
         fail(camera, "JPEG is " + size_text(w, h) + " but the response says " + size_text(img.cols(), img.rows()));
       }
-      const cv::Mat bytes(1, static_cast<int>(img.data().size()), CV_8UC1, const_cast<char*>(img.data().data()));
-      out.image = cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
-      if (out.image.empty()) fail(camera, "corrupt JPEG (" + std::to_string(img.data().size()) + " bytes)");
+      std::string why;
+      out.image = decode_image(img.data(), ImageColour::kAsStored, &why);
+      if (out.image.empty()) fail(camera, why + " (" + std::to_string(img.data().size()) + " bytes)");
       if (out.image.cols != width || out.image.rows != height) {
         fail(camera, "JPEG decodes to " + size_text(out.image.cols, out.image.rows) + " but the response says " +
                          size_text(img.cols(), img.rows()));
       }
-      if (out.image.depth() != CV_8U) fail(camera, "JPEG is not 8-bit");
-      if (out.image.channels() == 4) cv::cvtColor(out.image, out.image, cv::COLOR_BGRA2BGR);
       out.encoded.format = "jpeg";
       out.encoded.bytes = std::make_shared<const std::vector<uint8_t>>(img.data().begin(), img.data().end());
       break;

@@ -8,7 +8,9 @@
 #include <fstream>
 #include <string>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
+
+#include "core/io/image_codec.h"
 
 namespace {
 
@@ -52,9 +54,9 @@ cameras:
     mount: {xyz: [0, 0, 1], ypr_deg: [90, 0, 0]}
 )");
     write("view.yaml", "name: front\ntype: perspective\nwidth: 64\nheight: 32\nhfov_deg: 60\n");
-    cv::imwrite((dir_ / "front.png").string(), cv::Mat(120, 160, CV_8UC3, cv::Scalar(10, 200, 30)));
-    cv::imwrite((dir_ / "left.png").string(), cv::Mat(120, 160, CV_8UC1, cv::Scalar(90)));
-    cv::imwrite((dir_ / "small.png").string(), cv::Mat(60, 80, CV_8UC3, cv::Scalar(0)));
+    omniview::write_image(dir_ / "front.png", cv::Mat(120, 160, CV_8UC3, cv::Scalar(10, 200, 30)));
+    omniview::write_image(dir_ / "left.png", cv::Mat(120, 160, CV_8UC1, cv::Scalar(90)));
+    omniview::write_image(dir_ / "small.png", cv::Mat(60, 80, CV_8UC3, cv::Scalar(0)));
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -71,7 +73,7 @@ cameras:
 TEST_F(RenderCli, RendersAViewFromTheCameraThatSeesIt) {
   const auto r = run(base_args() + " --view " + path("view.yaml") + " --out " + path("out.png"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const cv::Mat out = cv::imread(path("out.png"), cv::IMREAD_UNCHANGED);
+  const cv::Mat out = omniview::read_image(path("out.png"));
   ASSERT_EQ(out.cols, 64);
   ASSERT_EQ(out.rows, 32);
   ASSERT_EQ(out.channels(), 3);
@@ -88,13 +90,13 @@ TEST_F(RenderCli, SeveralViewsGoIntoAFolder) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(fs::exists(dir_ / "views" / "a.png"));
   EXPECT_TRUE(fs::exists(dir_ / "views" / "b.png"));
-  EXPECT_EQ(cv::imread(path("views/b.png")).cols, 64);
+  EXPECT_EQ(omniview::read_image(path("views/b.png"), omniview::ImageColour::kBgr).cols, 64);
 }
 
 TEST_F(RenderCli, GreyOutputFromMixedInputs) {
   const auto r = run(base_args() + " --grey --view " + path("view.yaml") + " --out " + path("grey.png"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(cv::imread(path("grey.png"), cv::IMREAD_UNCHANGED).channels(), 1);
+  EXPECT_EQ(omniview::read_image(path("grey.png")).channels(), 1);
 }
 
 TEST_F(RenderCli, ListsModelsAndViewTypes) {
@@ -189,7 +191,8 @@ TEST_F(RenderCli, KalibrCamchainWithRigPose) {
     const auto r = run("render --rig " + path("camchain.yaml") + " --rig-pose \"" + pose + "\" --image cam0=" +
                        path("front.png") + " --view " + path("view.yaml") + " --out " + path("c.png"));
     ASSERT_EQ(r.exit_code, 0) << pose << "\n" << r.output;
-    EXPECT_EQ(cv::imread(path("c.png")).at<cv::Vec3b>(16, 32), cv::Vec3b(10, 200, 30)) << pose;
+    const cv::Mat c = omniview::read_image(path("c.png"), omniview::ImageColour::kBgr);
+    EXPECT_EQ(c.at<cv::Vec3b>(16, 32), cv::Vec3b(10, 200, 30)) << pose;
     EXPECT_NE(r.output.find("coverage 100.0 %"), std::string::npos) << pose << "\n" << r.output;
   }
   const std::string help = run("render --help").output;

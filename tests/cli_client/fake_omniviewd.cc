@@ -4,7 +4,8 @@
 #include <thread>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
+
+#include "core/io/image_codec.h"
 
 namespace omniview::testing {
 namespace {
@@ -247,8 +248,7 @@ grpc::Status FakeOmniviewd::StreamSourceFrames(grpc::ServerContext* context,
                                                grpc::ServerWriter<v1::SourceFrame>* writer) {
   if (auto s = authorize(context, false); !s.ok()) return s;
   if (request->source() != "sim") return {grpc::StatusCode::NOT_FOUND, "no source '" + request->source() + "'"};
-  std::vector<uchar> png;
-  cv::imencode(".png", cv::Mat(12, 16, CV_8UC3, cv::Scalar(10, 200, 30)), png);
+  const std::vector<uint8_t> png = encode_png(cv::Mat(12, 16, CV_8UC3, cv::Scalar(10, 200, 30)));
   for (uint64_t sequence = 1; sequence < 100000 && !context->IsCancelled(); ++sequence) {
     v1::SourceFrame frame;
     frame.set_sequence(sequence);

@@ -8,9 +8,10 @@
 #include <fstream>
 #include <string>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
 #include "core/cloud/cloud_file.h"
+#include "core/io/image_codec.h"
 
 namespace omniview {
 namespace {
@@ -52,8 +53,8 @@ cameras:
     resolution: [160, 120]
     mount: {xyz: [0, 0, 1], ypr_deg: [90, 0, 0]}
 )";
-    cv::imwrite((dir_ / "front.png").string(), cv::Mat(120, 160, CV_8UC3, cv::Scalar(10, 200, 30)));  // BGR green
-    cv::imwrite((dir_ / "left.png").string(), cv::Mat(120, 160, CV_8UC1, cv::Scalar(90)));
+    write_image(dir_ / "front.png", cv::Mat(120, 160, CV_8UC3, cv::Scalar(10, 200, 30)));  // BGR green
+    write_image(dir_ / "left.png", cv::Mat(120, 160, CV_8UC1, cv::Scalar(90)));
     // A 0.4 m patch 1 m ahead, a point 2 m behind it, one ahead beside it, one on the
     // left, one behind the robot.
     PointCloud cloud;

@@ -3,8 +3,9 @@
 
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
+#include "core/io/image_codec.h"
 #include "core/io/yaml_reader.h"
 #include "core/rig/rig.h"
 #include "test_support.h"
@@ -41,7 +42,7 @@ TEST_F(RigYaml, GoodFileLoadsAsWritten) {
   std::filesystem::create_directories(dir_.path() / "masks");
   cv::Mat mask(480, 640, CV_8UC1, cv::Scalar(255));
   mask(cv::Rect(0, 0, 10, 10)).setTo(0);
-  ASSERT_TRUE(cv::imwrite(dir_ / "masks/left.png", mask));
+  write_image(dir_ / "masks/left.png", mask);
   const Rig rig = load_rig_yaml(dir_.write("rig.yaml", R"(# comment
 frame: body
 frames:
@@ -159,7 +160,7 @@ TEST_F(RigYaml, MissingOrWrongIntrinsics) {
 }
 
 TEST_F(RigYaml, MaskErrorsPointAtTheMask) {
-  ASSERT_TRUE(cv::imwrite(dir_ / "small.png", cv::Mat(2, 2, CV_8UC1, cv::Scalar(255))));
+  write_image(dir_ / "small.png", cv::Mat(2, 2, CV_8UC1, cv::Scalar(255)));
   expect_error("mask.yaml", "cameras:\n" + camera("a", "    mask: small.png\n"),
                {"mask.yaml:7: cameras[0] (a).mask", "2x2", "640x480"});
   expect_error("nomask.yaml", "cameras:\n" + camera("a", "    mask: none.png\n"),

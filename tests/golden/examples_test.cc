@@ -6,8 +6,8 @@
 #include <filesystem>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "core/io/image_codec.h"
 #include "core/map/apply.h"
 #include "core/synthetic/render.h"
 #include "core/view/view.h"
@@ -19,7 +19,9 @@ namespace {
 
 std::vector<cv::Mat> example_images(const Rig& rig) {
   std::vector<cv::Mat> images;
-  for (const Camera& c : rig.cameras()) images.push_back(cv::imread(golden::example_dir() + "/" + c.name + ".jpg"));
+  for (const Camera& c : rig.cameras()) {
+    images.push_back(read_image(golden::example_dir() + "/" + c.name + ".jpg", ImageColour::kBgr));
+  }
   return images;
 }
 

@@ -8,9 +8,9 @@
 #include <fstream>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/io/image_codec.h"
 #include "core/synthetic/render.h"
 #include "core/view/view.h"
 #include "server/config/daemon_config.h"
@@ -116,8 +116,8 @@ TEST_F(AirDaemon, ServesThePanoramaOfTheSceneSeamlessly) {
   EXPECT_GT(double(covered) / surface, 0.99) << "the two 210 deg lenses cover the whole sphere";
   EXPECT_GE(psnr, 30.0);
   if (psnr < 30.0 || HasFailure()) {
-    cv::imwrite((dir.path() / "panorama.png").string(), image);
-    cv::imwrite((dir.path() / "truth.png").string(), truth);
+    write_image(dir.path() / "panorama.png", image);
+    write_image(dir.path() / "truth.png", truth);
   }
 
   // The seam: the columns where the panorama passes from one lens to the other (+-90 deg
@@ -144,7 +144,7 @@ TEST_F(AirDaemon, APtzViewSteeredWithTheCli) {
   ASSERT_EQ(ptz.exit_code, 0) << ptz.output;
   const auto shot = run_process(cli + " snapshot ptz -o " + (dir.path() / "ptz.png").string());
   ASSERT_EQ(shot.exit_code, 0) << shot.output;
-  const cv::Mat after = cv::imread((dir.path() / "ptz.png").string());
+  const cv::Mat after = read_image(dir.path() / "ptz.png", ImageColour::kBgr);
   ASSERT_EQ(after.size(), cv::Size(640, 480));
   cv::Mat grey;
   cv::cvtColor(after, grey, cv::COLOR_BGR2GRAY);

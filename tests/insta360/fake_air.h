@@ -11,9 +11,9 @@
 #include <thread>
 #include <vector>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/io/image_codec.h"
 #include "insta360_adapter/device/video_device.h"
 
 namespace omniview::insta360::testing {
@@ -42,11 +42,7 @@ inline cv::Mat dual_fisheye_picture(int width, int height, cv::Point2d offset = 
   return img;
 }
 
-inline std::vector<uint8_t> jpeg_of(const cv::Mat& img, int quality = 85) {
-  std::vector<uint8_t> out;
-  cv::imencode(".jpg", img, out, {cv::IMWRITE_JPEG_QUALITY, quality});
-  return out;
-}
+inline std::vector<uint8_t> jpeg_of(const cv::Mat& img, int quality = 85) { return encode_jpeg(img, quality); }
 
 // The camera as the test drives it: plugged in or not, busy or not, and what it sends.
 struct FakeAirState {

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "core/io/image_codec.h"
 #include "core/io/yaml_reader.h"
 #include "server/recording/recording.h"
 
@@ -50,8 +50,7 @@ class RecordingTest : public ::testing::Test {
   // Three frame sets 100 ms apart: raw Mats (stored as PNG), the second with JPEG bytes kept.
   void write_three(const std::shared_ptr<Rig>& rig) {
     RecordingWriter writer(folder(), "cam");
-    std::vector<uint8_t> jpeg;
-    cv::imencode(".jpg", pattern(7), jpeg);
+    std::vector<uint8_t> jpeg = encode_jpeg(pattern(7), 95);
     for (int i = 0; i < 3; ++i) {
       FrameSet frames;
       frames.sequence = 10 + i;
@@ -102,8 +101,7 @@ TEST_F(RecordingTest, RoundTripKeepsPixelsTimesAndJpegBytes) {
 TEST_F(RecordingTest, AbsentCameraStaysAbsent) {
   auto rig = small_rig();
   RecordingWriter again(folder(), "cam");
-  std::vector<uint8_t> png;
-  cv::imencode(".png", pattern(3), png);
+  std::vector<uint8_t> png = encode_png(pattern(3));
   again.write(1, t0_, *rig, {{"right", "png", png}});
   again.close();
   const Recording rec = Recording::open(folder());
@@ -151,7 +149,7 @@ TEST_F(RecordingTest, CorruptImageNamesFile) {
 TEST_F(RecordingTest, ImageOfWrongSizeIsRejected) {
   write_three(small_rig());
   const Recording rec = Recording::open(folder());
-  cv::imwrite((dir_ / rec.frames[0].image_files[0]).string(), cv::Mat(10, 10, CV_8UC3, cv::Scalar(1, 2, 3)));
+  write_image(dir_ / rec.frames[0].image_files[0], cv::Mat(10, 10, CV_8UC3, cv::Scalar(1, 2, 3)));
   EXPECT_THROW(rec.load_images(rec.frames[0]), std::runtime_error);
   // The writer refuses one too.
   RecordingWriter writer((dir_ / "other").string(), "cam");

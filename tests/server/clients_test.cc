@@ -7,8 +7,9 @@
 #include <fstream>
 #include <sstream>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
+#include "core/io/image_codec.h"
 #include "daemon_process.h"
 
 namespace omniview::testing {
@@ -91,7 +92,7 @@ hfov_deg: 90
   const std::string png = (dir_.path() / "ptz.png").string();
   r = cli("snapshot ptz -o " + png);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const cv::Mat image = cv::imread(png, cv::IMREAD_UNCHANGED);
+  const cv::Mat image = read_image(png);
   ASSERT_FALSE(image.empty()) << r.output;
   EXPECT_EQ(image.cols, 200);
   EXPECT_EQ(image.rows, 100);
@@ -109,7 +110,7 @@ TEST_F(Clients, CliStreamsFramesWithAnIndexAndShowsStatus) {
   auto r = cli("stream front --frames 5 -o " + folder.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(count_lines(folder / "frames.csv"), 6u);  // header + 5 frames
-  const cv::Mat first = cv::imread((folder / "frame_000001.jpg").string());
+  const cv::Mat first = read_image(folder / "frame_000001.jpg", ImageColour::kBgr);
   EXPECT_EQ(first.cols, 320);
   EXPECT_EQ(first.rows, 160);
 
@@ -200,7 +201,7 @@ TEST_F(Clients, ThePythonExampleSavesFrames) {
   const auto r = run_process(command);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (int i = 1; i <= 3; ++i) {
-    const cv::Mat frame = cv::imread((folder / ("frame_00000" + std::to_string(i) + ".jpg")).string());
+    const cv::Mat frame = read_image(folder / ("frame_00000" + std::to_string(i) + ".jpg"), ImageColour::kBgr);
     EXPECT_EQ(frame.cols, 320) << r.output;
     EXPECT_EQ(frame.rows, 160);
   }

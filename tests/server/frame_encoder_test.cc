@@ -1,11 +1,11 @@
 // encode_frame: JPEG through TurboJPEG straight from the view buffer (BGR or grey, any row
-// stride), decoded again by OpenCV's own JPEG reader; PNG and RAW unchanged.
+// stride), decoded again by core/io's decode_image; PNG and RAW unchanged.
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/io/image_codec.h"
 #include "server/pipeline/frame_encoder.h"
 
 namespace omniview {
@@ -23,8 +23,7 @@ cv::Mat test_picture(int w, int h) {
 }
 
 cv::Mat decode(const v1::Frame& frame) {
-  const std::vector<uint8_t> bytes(frame.data().begin(), frame.data().end());
-  return cv::imdecode(bytes, cv::IMREAD_UNCHANGED);
+  return decode_image(frame.data());
 }
 
 TEST(FrameEncoder, ColourJpegKeepsBgrOrder) {

@@ -13,9 +13,9 @@
 #include <vector>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/io/image_codec.h"
 #include "core/rig/rig.h"
 #include "daemon_process.h"
 #include "server/recording/recording.h"
@@ -79,7 +79,7 @@ TEST_F(Operator, StreamToStdoutIsMjpegThatDecodesFrameByFrame) {
   ASSERT_EQ(jpegs.size(), 5u);
   EXPECT_TRUE(leftover.empty()) << leftover.size() << " bytes that are no JPEG";
   for (const auto& jpeg : jpegs) {
-    const cv::Mat image = cv::imdecode(std::vector<uchar>(jpeg.begin(), jpeg.end()), cv::IMREAD_UNCHANGED);
+    const cv::Mat image = decode_image(jpeg);
     ASSERT_FALSE(image.empty());
     EXPECT_EQ(image.cols, 320);
     EXPECT_EQ(image.rows, 160);
@@ -159,12 +159,12 @@ TEST_F(Operator, SnapshotToStdoutIsOneImage) {
   std::string leftover;
   ASSERT_EQ(split_jpegs(bytes, &leftover).size(), 1u);
   EXPECT_TRUE(leftover.empty());
-  EXPECT_FALSE(cv::imdecode(std::vector<uchar>(bytes.begin(), bytes.end()), cv::IMREAD_UNCHANGED).empty());
+  EXPECT_FALSE(decode_image(bytes).empty());
 
   const fs::path png = dir_.path() / "snap.png";
   r = cli_to_file("snapshot front -o - --encoding png", png);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_EQ(cv::imread(png.string(), cv::IMREAD_UNCHANGED).cols, 320);
+  EXPECT_EQ(read_image(png).cols, 320);
 }
 
 // Sideways views of two sources: `dark`, whose back lens is exposed a quarter darker than
@@ -195,7 +195,7 @@ cv::Mat snapshot_png(v1::Omniview::Stub& stub, const std::string& view) {
   const grpc::Status status = stub.GetSnapshot(context.get(), request, &frame);
   EXPECT_TRUE(status.ok()) << status.error_message();
   const std::string& data = frame.data();
-  return cv::imdecode(std::vector<uchar>(data.begin(), data.end()), cv::IMREAD_UNCHANGED);
+  return decode_image(data);
 }
 
 // How abruptly the exposure difference between the lenses appears across the view: the
@@ -219,11 +219,11 @@ double seam_step(const cv::Mat& even, const cv::Mat& dark) {
 
 TEST(OperatorViews, CreatedViewsBlendLikeTheConfigsViews) {
   TempDir dir;
-  cv::Mat back = cv::imread(example_dir() + "/back.jpg", cv::IMREAD_UNCHANGED);
+  cv::Mat back = read_image(example_dir() + "/back.jpg");
   ASSERT_FALSE(back.empty());
   back.convertTo(back, -1, 0.75);
   const std::string darker_back = (dir.path() / "back_darker.png").string();
-  ASSERT_TRUE(cv::imwrite(darker_back, back));
+  write_image(darker_back, back);
   const std::string config = side_views_config(darker_back);
   DaemonProcess daemon(dir, config);
   auto stub = make_stub(daemon.address());

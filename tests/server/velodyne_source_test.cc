@@ -10,11 +10,11 @@
 #include <atomic>
 #include <cstring>
 #include <map>
-#include <opencv2/imgcodecs.hpp>
 #include <sstream>
 #include <thread>
 
 #include "cloud_scene.h"
+#include "core/io/image_codec.h"
 #include "core/synthetic/spot_like_rig.h"
 #include "tests/server/daemon_process.h"
 #include "vlp16_packets.h"
@@ -116,7 +116,7 @@ class VelodyneSource : public ::testing::Test {
     std::ostringstream yaml;
     for (size_t i = 0; i < images.size(); ++i) {
       const std::string name = rig.cameras()[i].name;
-      cv::imwrite((dir_.path() / (name + ".png")).string(), images[i]);
+      write_image(dir_.path() / (name + ".png"), images[i]);
       yaml << (i ? ", " : "") << name << ": " << name << ".png";
     }
     port_ = free_udp_port();

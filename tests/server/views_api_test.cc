@@ -5,8 +5,8 @@
 #include <cmath>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
+#include "core/io/image_codec.h"
 #include "core/map/apply.h"
 #include "core/map/fusion_map.h"
 #include "core/rig/rig.h"
@@ -133,7 +133,7 @@ TEST_F(ViewsApi, FramesInEveryEncodingHaveTheRequestedSizeAndCamera) {
     if (encoding == v1::RAW) {
       EXPECT_EQ(f.data().size(), size_t(400 * 200 * f.channels()));
     } else {
-      const cv::Mat img = cv::imdecode(std::vector<uint8_t>(f.data().begin(), f.data().end()), cv::IMREAD_UNCHANGED);
+      const cv::Mat img = decode_image(f.data());
       ASSERT_FALSE(img.empty());
       EXPECT_EQ(img.cols, 400);
       EXPECT_EQ(img.rows, 200);
@@ -188,10 +188,12 @@ TEST_F(ViewsApi, PngFramesEqualTheOfflineRenderAndFollowUpdatesImmediately) {
   spec.fusion = Fusion::kNearestCentre;
   const auto view = View::create(spec);
   std::vector<cv::Mat> images;
-  for (const auto& cam : rig.cameras()) images.push_back(cv::imread(example_dir() + "/" + cam.name + ".jpg"));
+  for (const auto& cam : rig.cameras()) {
+    images.push_back(read_image(example_dir() + "/" + cam.name + ".jpg", ImageColour::kBgr));
+  }
   cv::Mat expected;
   apply_map(build_map(rig, *view), images, expected, 3);
-  const cv::Mat got = cv::imdecode(std::vector<uint8_t>(f.data().begin(), f.data().end()), cv::IMREAD_UNCHANGED);
+  const cv::Mat got = decode_image(f.data());
   ASSERT_EQ(got.size(), expected.size());
   EXPECT_EQ(cv::norm(got, expected, cv::NORM_INF), 0);
 }

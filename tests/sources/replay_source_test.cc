@@ -1,7 +1,7 @@
 // The `replay` source: order, timing, looping, bad images, config errors.
 #include <fstream>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
 #include "server/recording/recording.h"
 #include "server/sources/replay_source.h"

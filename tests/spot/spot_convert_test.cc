@@ -2,8 +2,9 @@
 // footprint frame. Everything here is outside data, so the bad cases matter most.
 #include <gtest/gtest.h>
 
-#include <opencv2/imgcodecs.hpp>
+#include <opencv2/core.hpp>
 
+#include "core/io/image_codec.h"
 #include "spot_adapter/client/spot_error.h"
 #include "spot_adapter/convert/camera_model_from_source.h"
 #include "spot_adapter/convert/frame_tree.h"
@@ -117,8 +118,7 @@ api::ImageResponse response(const cv::Mat& image, api::Image::Format format, api
   img->set_format(format);
   img->set_pixel_format(pixels);
   if (format == api::Image::FORMAT_JPEG) {
-    std::vector<uint8_t> bytes;
-    cv::imencode(".jpg", image, bytes);
+    const std::vector<uint8_t> bytes = encode_jpeg(image, 95);
     img->set_data(bytes.data(), bytes.size());
   } else {
     img->set_data(image.data, image.total() * image.elemSize());

@@ -1,8 +1,7 @@
 // Fault injection through the control service and the `spot-mock control` command.
-#include <opencv2/imgcodecs.hpp>
-
 #include "bosdyn/api/image_service.grpc.pb.h"
 #include "bosdyn/api/robot_id_service.grpc.pb.h"
+#include "core/io/image_codec.h"
 #include "tests/spot_mock/mock_fixture.h"
 
 namespace omniview::testing {
@@ -92,7 +91,7 @@ TEST_F(SpotMockFaults, ImageErrorsCorruptionAndWrongSizesPerImage) {
     const std::string& bytes = response.image_responses(i).shot().image().data();
     EXPECT_EQ(response.image_responses(i).status(), ImageResponse::STATUS_OK);
     EXPECT_NE(bytes, clean.image_responses(i).shot().image().data());
-    const cv::Mat decoded = cv::imdecode(std::vector<uchar>(bytes.begin(), bytes.end()), cv::IMREAD_UNCHANGED);
+    const cv::Mat decoded = decode_image(bytes);
     EXPECT_TRUE(decoded.empty() || bytes.size() < clean.image_responses(i).shot().image().data().size())
         << "garbled from the start, or cut short";
   }

@@ -2,9 +2,9 @@
 #include <cmath>
 
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "bosdyn/api/image_service.grpc.pb.h"
+#include "core/io/image_codec.h"
 #include "spot_adapter/mock/world/mock_scene.h"
 #include "tests/spot_mock/mock_fixture.h"
 
@@ -154,7 +154,7 @@ TEST_F(SpotMockImages, JpegDecodesToTheSamePictureAtTheRequestedQuality) {
     const auto& image = response.image_responses(i).shot().image();
     EXPECT_EQ(image.format(), Image::FORMAT_JPEG) << i;
     EXPECT_EQ(image.pixel_format(), Image::PIXEL_FORMAT_GREYSCALE_U8) << i;
-    const cv::Mat jpeg = cv::imdecode(std::vector<uchar>(image.data().begin(), image.data().end()), cv::IMREAD_UNCHANGED);
+    const cv::Mat jpeg = decode_image(image.data());
     ASSERT_EQ(jpeg.type(), CV_8UC1) << i;
     ASSERT_EQ(jpeg.size(), cv::Size(640, 480)) << i;
     EXPECT_GT(cv::PSNR(jpeg, raw), i == 2 ? 28 : 35) << i;

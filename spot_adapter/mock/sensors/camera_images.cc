@@ -1,8 +1,8 @@
 #include "spot_adapter/mock/sensors/camera_images.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/io/image_codec.h"
 #include "core/synthetic/render.h"
 
 namespace omniview::spot_mock {
@@ -10,8 +10,7 @@ namespace {
 
 std::string encode(const cv::Mat& picture, Encoding encoding, int quality) {
   if (encoding == Encoding::kJpeg) {
-    std::vector<uchar> jpeg;
-    cv::imencode(".jpg", picture, jpeg, {cv::IMWRITE_JPEG_QUALITY, quality});
+    const std::vector<uint8_t> jpeg = encode_jpeg(picture, quality);
     return std::string(jpeg.begin(), jpeg.end());
   }
   cv::Mat rows = picture;

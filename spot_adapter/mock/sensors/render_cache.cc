@@ -11,7 +11,7 @@
 #include <sstream>
 #include <system_error>
 
-#include <opencv2/imgcodecs.hpp>
+#include "core/io/image_codec.h"
 
 namespace omniview::spot_mock {
 namespace fs = std::filesystem;
@@ -66,10 +66,9 @@ std::optional<std::vector<cv::Mat>> RenderCache::load() const {
   }
   std::vector<cv::Mat> pictures;
   for (size_t i = 0; i < count; ++i) {
-    cv::Mat picture = cv::imread(picture_file(entry_, i).string(), cv::IMREAD_UNCHANGED);
-    if (picture.empty() || picture.depth() != CV_8U || (picture.channels() != 1 && picture.channels() != 3)) {
-      return std::nullopt;
-    }
+    std::string why;
+    cv::Mat picture = read_image(picture_file(entry_, i), ImageColour::kAsStored, &why);
+    if (picture.empty()) return std::nullopt;
     pictures.push_back(std::move(picture));
   }
   return pictures;
@@ -84,7 +83,12 @@ void RenderCache::store(const std::vector<cv::Mat>& pictures) const {
   fs::create_directories(staging, ec);
   bool written = !ec;
   for (size_t i = 0; written && i < pictures.size(); ++i) {
-    written = cv::imwrite(picture_file(staging, i).string(), pictures[i]);
+    try {
+      write_image(picture_file(staging, i), pictures[i]);
+    } catch (const std::exception& e) {
+      std::cerr << "spot-mock: render cache: " << e.what() << "\n";
+      written = false;
+    }
   }
   if (written) {
     std::ofstream key_file(staging / "key");

@@ -5,9 +5,8 @@
 #include <iostream>
 #include <limits>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "core/cloud/colourer.h"
+#include "core/io/image_codec.h"
 #include "core/synthetic/lidar_scan.h"
 #include "core/synthetic/render.h"
 #include "spot_adapter/mock/world/mock_scene.h"
@@ -57,8 +56,10 @@ int main(int argc, char** argv) {
       }
     }
   }
-  if (!cv::imwrite(argv[1], picture, {cv::IMWRITE_JPEG_QUALITY, 88})) {
-    std::cerr << "cannot write " << argv[1] << "\n";
+  try {
+    write_image(argv[1], picture, 88);
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
     return 1;
   }
   std::cout << argv[1] << ": " << stats.points << " points, " << stats.coloured << " coloured, " << stats.occluded

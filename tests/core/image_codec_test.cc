@@ -1,0 +1,189 @@
+// core/io/image_codec: PNG and JPEG through libpng and libjpeg-turbo, in memory and on disk,
+// and the errors a user sees for files that are not images.
+#include "core/io/image_codec.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+namespace omniview {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A smooth picture with detail in every channel, so a swapped channel or a shifted row shows.
+cv::Mat picture(int width, int height, int type) {
+  cv::Mat out(height, width, type);
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {
+      const auto b = cv::saturate_cast<uint8_t>(128 + 100 * std::sin(u * 0.11));
+      const auto g = cv::saturate_cast<uint8_t>(128 + 100 * std::cos(v * 0.07));
+      const auto r = cv::saturate_cast<uint8_t>(128 + 100 * std::sin((u + 2 * v) * 0.05));
+      if (type == CV_8UC1) {
+        out.at<uint8_t>(v, u) = b;
+      } else {
+        out.at<cv::Vec3b>(v, u) = cv::Vec3b(b, g, r);
+      }
+    }
+  }
+  return out;
+}
+
+double max_difference(const cv::Mat& a, const cv::Mat& b) { return cv::norm(a, b, cv::NORM_INF); }
+
+double psnr(const cv::Mat& a, const cv::Mat& b) { return cv::PSNR(a, b); }
+
+class ScratchFolder : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("omniview_image_codec_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST(ImageCodec, PngKeepsGreyAndColourExactly) {
+  for (const int type : {CV_8UC1, CV_8UC3}) {
+    const cv::Mat original = picture(97, 61, type);  // odd sizes: no row padding assumed
+    const std::vector<uint8_t> png = encode_png(original);
+    const cv::Mat back = decode_image(png);
+    ASSERT_EQ(back.type(), type);
+    ASSERT_EQ(back.size(), original.size());
+    EXPECT_EQ(max_difference(back, original), 0) << "type " << type;
+  }
+}
+
+TEST(ImageCodec, JpegKeepsTheChannelOrderAndIsCloseAtHighQuality) {
+  const cv::Mat colour = picture(160, 96, CV_8UC3);
+  const cv::Mat back = decode_image(encode_jpeg(colour, 95));
+  ASSERT_EQ(back.type(), CV_8UC3);
+  EXPECT_GT(psnr(back, colour), 35);
+  // Each channel against the original's same channel, and clearly not another's.
+  std::vector<cv::Mat> a, b;
+  cv::split(colour, a);
+  cv::split(back, b);
+  EXPECT_GT(psnr(b[0], a[0]), 35);
+  EXPECT_LT(psnr(b[0], a[2]), 20) << "blue and red swapped";
+
+  const cv::Mat grey = picture(160, 96, CV_8UC1);
+  const cv::Mat grey_back = decode_image(encode_jpeg(grey, 95));
+  ASSERT_EQ(grey_back.type(), CV_8UC1) << "a grey JPEG stays grey";
+  EXPECT_GT(psnr(grey_back, grey), 35);
+}
+
+TEST(ImageCodec, LowerQualityGivesSmallerJpegs) {
+  const cv::Mat colour = picture(320, 240, CV_8UC3);
+  EXPECT_LT(encode_jpeg(colour, 40).size(), encode_jpeg(colour, 95).size());
+  EXPECT_THROW(encode_jpeg(colour, 0), std::invalid_argument);
+  EXPECT_THROW(encode_jpeg(colour, 101), std::invalid_argument);
+}
+
+TEST(ImageCodec, ARegionOfALargerImageEncodesItsOwnPixels) {
+  const cv::Mat whole = picture(200, 120, CV_8UC3);
+  const cv::Mat region = whole(cv::Rect(13, 7, 101, 55));  // rows a stride apart
+  ASSERT_FALSE(region.isContinuous());
+  EXPECT_EQ(max_difference(decode_image(encode_png(region)), region), 0);
+  EXPECT_GT(psnr(decode_image(encode_jpeg(region, 95)), region.clone()), 35);
+}
+
+TEST(ImageCodec, AskedColourIsGiven) {
+  const cv::Mat colour = picture(64, 48, CV_8UC3);
+  const std::vector<uint8_t> png = encode_png(colour);
+  const cv::Mat grey = decode_image(png, ImageColour::kGrey);
+  ASSERT_EQ(grey.type(), CV_8UC1);
+  cv::Mat expected;
+  cv::cvtColor(colour, expected, cv::COLOR_BGR2GRAY);
+  EXPECT_LE(max_difference(grey, expected), 1);
+  const cv::Mat from_grey = decode_image(encode_png(expected), ImageColour::kBgr);
+  ASSERT_EQ(from_grey.type(), CV_8UC3);
+  std::vector<cv::Mat> channels;
+  cv::split(from_grey, channels);
+  EXPECT_EQ(max_difference(channels[0], expected), 0);
+  EXPECT_EQ(max_difference(channels[2], expected), 0);
+  EXPECT_EQ(decode_image(encode_jpeg(colour, 90), ImageColour::kGrey).type(), CV_8UC1);
+}
+
+TEST(ImageCodec, BadBytesGiveAnEmptyImageAndAReason) {
+  std::string why;
+  EXPECT_TRUE(decode_image(std::string("not an image at all"), ImageColour::kAsStored, &why).empty());
+  EXPECT_EQ(why, "neither PNG nor JPEG data");
+  EXPECT_TRUE(decode_image(std::string(), ImageColour::kAsStored, &why).empty());
+  EXPECT_EQ(why, "no data");
+
+  std::vector<uint8_t> png = encode_png(picture(64, 48, CV_8UC3));
+  for (size_t i = 40; i < png.size(); ++i) png[i] ^= 0x5a;  // header kept, data garbled
+  EXPECT_TRUE(decode_image(png, ImageColour::kAsStored, &why).empty());
+  EXPECT_NE(why.find("corrupt PNG"), std::string::npos) << why;
+
+  std::vector<uint8_t> jpeg = encode_jpeg(picture(64, 48, CV_8UC3), 90);
+  jpeg.resize(20);  // the SOI and a little of the first segment
+  EXPECT_TRUE(decode_image(jpeg, ImageColour::kAsStored, &why).empty());
+  EXPECT_NE(why.find("corrupt JPEG"), std::string::npos) << why;
+}
+
+TEST(ImageCodec, AJpegCutShortDecodesAsFarAsItsDataGoes) {
+  const cv::Mat colour = picture(128, 128, CV_8UC3);
+  std::vector<uint8_t> jpeg = encode_jpeg(colour, 90);
+  jpeg.resize(jpeg.size() * 2 / 3);
+  const cv::Mat back = decode_image(jpeg);
+  ASSERT_EQ(back.size(), colour.size());
+  // The top rows are there; the rest is what libjpeg fills in.
+  EXPECT_GT(psnr(back.rowRange(0, 32), colour.rowRange(0, 32)), 30);
+}
+
+TEST(ImageCodec, AHeaderClaimingGiantSizesIsRefusedBeforeAllocating) {
+  std::vector<uint8_t> png = encode_png(picture(16, 16, CV_8UC1));
+  // IHDR's width and height (bytes 16-23) say 65535 x 65535; the CRC no longer matches,
+  // which libpng may report first: either way nothing is allocated and the reason is given.
+  for (int i = 16; i < 24; ++i) png[i] = (i % 4 < 2) ? 0x00 : 0xff;
+  std::string why;
+  EXPECT_TRUE(decode_image(png, ImageColour::kAsStored, &why).empty());
+  EXPECT_FALSE(why.empty());
+}
+
+TEST(ImageCodec, OnlyEightBitGreyOrBgrEncodes) {
+  EXPECT_THROW(encode_png(cv::Mat()), std::invalid_argument);
+  EXPECT_THROW(encode_png(cv::Mat(4, 4, CV_16UC1, cv::Scalar(0))), std::invalid_argument);
+  EXPECT_THROW(encode_jpeg(cv::Mat(4, 4, CV_8UC4, cv::Scalar(0))), std::invalid_argument);
+}
+
+TEST_F(ScratchFolder, FilesRoundTripByExtension) {
+  const cv::Mat colour = picture(80, 60, CV_8UC3);
+  write_image(dir_ / "a.png", colour);
+  write_image(dir_ / "b.JPG", colour, 92);
+  EXPECT_EQ(max_difference(read_image(dir_ / "a.png"), colour), 0);
+  EXPECT_GT(psnr(read_image(dir_ / "b.JPG"), colour), 33);
+  EXPECT_EQ(read_image(dir_ / "a.png", ImageColour::kGrey).type(), CV_8UC1);
+}
+
+TEST_F(ScratchFolder, FileErrorsNameTheFileAndTheReason) {
+  const auto message = [](const auto& call) {
+    try {
+      call();
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string missing = (dir_ / "missing.png").string();
+  EXPECT_EQ(message([&] { read_image(missing); }), "cannot read image '" + missing + "': no such file");
+  EXPECT_EQ(message([&] { read_image(dir_); }), "cannot read image '" + dir_.string() + "': it is a folder");
+  std::ofstream(dir_ / "text.png") << "hello";
+  EXPECT_NE(message([&] { read_image(dir_ / "text.png"); }).find("text.png': not a decodable image"), std::string::npos);
+  const std::string tiff = (dir_ / "out.tiff").string();
+  EXPECT_EQ(message([&] { write_image(tiff, picture(8, 8, CV_8UC1)); }),
+            "cannot write image '" + tiff + "': name it .png, .jpg or .jpeg");
+  const std::string nowhere = (dir_ / "no_folder" / "x.png").string();
+  EXPECT_EQ(message([&] { write_image(nowhere, picture(8, 8, CV_8UC1)); }), "cannot write image '" + nowhere + "'");
+}
+
+}  // namespace
+}  // namespace omniview
