@@ -10,6 +10,7 @@
 
 #include <png.h>
 #include <turbojpeg.h>
+#include <zlib.h>
 
 #include <opencv2/imgproc.hpp>
 
@@ -90,6 +91,49 @@ cv::Mat decode_jpeg(std::span<const uint8_t> bytes, ImageColour colour, std::str
   return image;
 }
 
+// libpng's full write API, for the settings its simplified one does not offer: zlib level
+// 1, the SUB filter and run-length matching. On a 2048x1024 colour view that is ~1.7x as
+// fast as OpenCV's PNG at compression 1 (adaptive filters) and a little smaller; the
+// simplified API's "fast" mode (level 3, no filter) was slower and ~1.8x the size.
+// Returns the reason on failure (libpng reports errors by longjmp, caught here).
+void append_png_bytes(png_structp png, png_bytep data, png_size_t size) {
+  auto* out = static_cast<std::vector<uint8_t>*>(png_get_io_ptr(png));
+  out->insert(out->end(), data, data + size);
+}
+
+void keep_png_error(png_structp png, png_const_charp message) {
+  *static_cast<std::string*>(png_get_error_ptr(png)) = message;
+  png_longjmp(png, 1);
+}
+
+std::string write_png_rows(const cv::Mat& image, std::vector<uint8_t>& out) {
+  std::string error;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, keep_png_error, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    return "out of memory";
+  }
+  // Nothing with a destructor lives in this frame past here: longjmp skips destructors.
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return error.empty() ? "libpng failed" : error;
+  }
+  png_set_write_fn(png, &out, append_png_bytes, nullptr);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.cols), static_cast<png_uint_32>(image.rows), 8,
+               image.channels() == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_compression_level(png, 1);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
+  png_set_compression_strategy(png, Z_RLE);
+  png_write_info(png, info);
+  if (image.channels() == 3) png_set_bgr(png);
+  for (int v = 0; v < image.rows; ++v) png_write_row(png, image.ptr(v));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return {};
+}
+
 void check_encodable(const cv::Mat& image, const char* format) {
   if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
     throw std::invalid_argument(std::string("cannot encode ") + format + ": the image must be 8-bit grey or BGR, not " +
@@ -117,23 +161,11 @@ cv::Mat decode_image(const std::string& bytes, ImageColour colour, std::string* 
 
 std::vector<uint8_t> encode_png(const cv::Mat& image) {
   check_encodable(image, "PNG");
-  png_image png;
-  std::memset(&png, 0, sizeof png);
-  png.version = PNG_IMAGE_VERSION;
-  png.width = static_cast<png_uint_32>(image.cols);
-  png.height = static_cast<png_uint_32>(image.rows);
-  png.format = image.channels() == 1 ? PNG_FORMAT_GRAY : PNG_FORMAT_BGR;
-  png.flags = PNG_IMAGE_FLAG_FAST;
-  const auto stride = static_cast<png_int_32>(image.step / image.elemSize1());
-  png_alloc_size_t size = 0;
-  if (!png_image_write_get_memory_size(png, size, 0, image.data, stride, nullptr)) {
-    throw std::runtime_error(std::string("cannot encode PNG: ") + png.message);
+  std::vector<uint8_t> out;
+  out.reserve(image.total() * image.channels() / 2);
+  if (const std::string why = write_png_rows(image, out); !why.empty()) {
+    throw std::runtime_error("cannot encode PNG: " + why);
   }
-  std::vector<uint8_t> out(size);
-  if (!png_image_write_to_memory(&png, out.data(), &size, 0, image.data, stride, nullptr)) {
-    throw std::runtime_error(std::string("cannot encode PNG: ") + png.message);
-  }
-  out.resize(size);
   return out;
 }
 

@@ -32,7 +32,7 @@ cv::Mat decode_image(const std::string& bytes, ImageColour colour = ImageColour:
                      std::string* error = nullptr);
 
 // `image` is CV_8UC1 (grey) or CV_8UC3 (BGR); anything else throws std::invalid_argument.
-// PNG: fast zlib settings (a stream or a cache, not an archive). JPEG: quality 1-100,
+// PNG: zlib level 1 with the SUB filter (a stream or a cache, not an archive). JPEG: quality 1-100,
 // 4:2:0 chroma for colour.
 std::vector<uint8_t> encode_png(const cv::Mat& image);
 std::vector<uint8_t> encode_jpeg(const cv::Mat& image, int quality = 90);
