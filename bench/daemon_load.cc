@@ -25,7 +25,6 @@
 #include <thread>
 
 #include <grpcpp/grpcpp.h>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/rig/rig.h"
 #include "omniview/v1/omniview.grpc.pb.h"

@@ -10,7 +10,6 @@
 #include <iostream>
 #include <sstream>
 
-#include <opencv2/core/utils/logger.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "cli/args.h"
@@ -48,7 +47,7 @@ Computes views offline from a calibrated rig and one image per camera.
   --image CAM=PATH    the image of camera CAM (repeat for each camera a view needs)
   --view FILE         a view YAML (one view, or 'views: [...]'); repeatable; view names
                       must be unique
-  --out PATH          one view: the output image (.png, .jpg, ...), or a folder (existing,
+  --out PATH          one view: the output image (.png, .jpg or .jpeg), or a folder (existing,
                       or written with a trailing '/') that receives NAME.png;
                       several views: a folder, which receives NAME.png per view
   --grey | --colour   output greyscale or colour (default: colour if any input is)
@@ -258,8 +257,6 @@ void render_and_write(const PreparedView& p, const std::vector<cv::Mat>& images,
 }  // namespace
 
 int render_command(const std::vector<std::string>& argv) {
-  // We report missing and unreadable files ourselves; OpenCV's WARN lines would only repeat them.
-  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   const Args args = Args::parse(argv, kRenderOptions);
   if (args.help_requested()) {
     std::cout << kRenderHelp;

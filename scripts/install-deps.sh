@@ -10,7 +10,7 @@ packages=(
   ccache mold libssl-dev openssl python3 python3-grpcio python3-protobuf
   libgtest-dev libgmock-dev libbenchmark-dev
   liburdfdom-dev liburdfdom-headers-dev libassimp-dev libosmesa6-dev
-  libturbojpeg0-dev libpng-dev  # JPEG and PNG (core/io/image_codec, server/pipeline): not OpenCV imgcodecs, whose GDAL & co. slow every start
+  libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev  # JPEG and PNG (core/io/image_codec, server/pipeline): not OpenCV imgcodecs, whose GDAL & co. slow every start
   libx264-dev      # H.264 streams (server/video)
   libavcodec-dev   # the video tests decode what the daemon sends (tests/video only)
   ffmpeg           # ffmpeg, ffprobe: the video tests read the CLI's H.264 pipe, RTSP and the Foxglove video channel as players do

@@ -6,6 +6,7 @@
 // Images are 8-bit, grey (CV_8UC1) or BGR (CV_8UC3) as in the rest of omniview.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -22,16 +23,25 @@ enum class ImageColour {
   kBgr,       // always CV_8UC3
 };
 
-// PNG or JPEG bytes (told apart by their signature) as an 8-bit image; alpha is dropped,
-// 16-bit samples are scaled to 8. Returns an empty Mat for anything else or corrupt data,
-// with the reason in *error when given. A JPEG cut short decodes as far as its data goes
-// (the rest grey), as libjpeg leaves it: the caller checks the size it expected.
-cv::Mat decode_image(std::span<const uint8_t> bytes, ImageColour colour = ImageColour::kAsStored,
-                     std::string* error = nullptr);
-cv::Mat decode_image(const std::string& bytes, ImageColour colour = ImageColour::kAsStored,
-                     std::string* error = nullptr);
+// As OpenCV's own limit (CV_IO_MAX_IMAGE_PIXELS): a header that claims more is refused
+// before anything is allocated for it.
+inline constexpr size_t kMaxImagePixels = size_t(1) << 30;
 
-// `image` is CV_8UC1 (grey) or CV_8UC3 (BGR); anything else throws std::invalid_argument.
+// PNG or JPEG bytes (told apart by their signature) as an 8-bit image: alpha is dropped
+// (the colour under it kept), 16-bit samples are scaled to 8, palettes expanded. Returns an
+// empty Mat for anything else, for corrupt data and for a header claiming more than
+// max_pixels, with the reason in *error when given. Where libjpeg only warns (data cut
+// short: the rest of the picture is grey; stray bytes between markers) the image is
+// returned, as other readers do. CMYK JPEGs are refused.
+// "png" or "jpeg" by the bytes' signature, "" for anything else (nothing is decoded).
+std::string image_format(std::span<const uint8_t> bytes);
+
+cv::Mat decode_image(std::span<const uint8_t> bytes, ImageColour colour = ImageColour::kAsStored,
+                     std::string* error = nullptr, size_t max_pixels = kMaxImagePixels);
+cv::Mat decode_image(const std::string& bytes, ImageColour colour = ImageColour::kAsStored,
+                     std::string* error = nullptr, size_t max_pixels = kMaxImagePixels);
+
+// `image` is CV_8UC1 (grey) or CV_8UC3 (BGR); anything else throws std::runtime_error.
 // PNG: zlib level 1 with the SUB filter (a stream or a cache, not an archive). JPEG: quality 1-100,
 // 4:2:0 chroma for colour.
 std::vector<uint8_t> encode_png(const cv::Mat& image);

@@ -47,7 +47,12 @@ v1::SourceFrame to_source_frame(const FrameSet& frames, uint64_t skipped_before,
       image->set_data(encoded->bytes->data(), encoded->bytes->size());
       continue;
     }
-    const std::vector<uint8_t> png = encode_png(img);
+    std::vector<uint8_t> png;
+    try {
+      png = encode_png(img);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("the image of camera '" + cams[i].name + "': " + e.what());
+    }
     image->set_encoding(v1::PNG);
     image->set_data(png.data(), png.size());
   }

@@ -239,7 +239,11 @@ void RecordingWriter::write(const FrameSet& frames) {
       image.format = encoded->format;
       image.bytes = *encoded->bytes;
     } else {
-      image.bytes = encode_png(mat);
+      try {
+        image.bytes = encode_png(mat);
+      } catch (const std::exception& e) {
+        throw std::runtime_error("recording: camera '" + cameras[i].name + "': " + e.what());
+      }
     }
     images.push_back(std::move(image));
   }

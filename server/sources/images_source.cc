@@ -11,20 +11,8 @@
 namespace omniview {
 namespace {
 
-// The format of an image file's bytes, by their signature ("" for one other than JPEG and PNG).
-std::string encoded_format(const std::vector<uint8_t>& bytes) {
-  static const uint8_t kJpeg[] = {0xFF, 0xD8, 0xFF};
-  static const uint8_t kPng[] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  const auto starts_with = [&](const auto& magic) {
-    return bytes.size() >= sizeof magic && std::equal(std::begin(magic), std::end(magic), bytes.begin());
-  };
-  if (starts_with(kJpeg)) return "jpeg";
-  if (starts_with(kPng)) return "png";
-  return "";
-}
-
-// Decodes a camera's image file and keeps its bytes when they are JPEG or PNG, so that a
-// recording of this source stores the file as it is (no re-encoding, no loss).
+// Decodes a camera's image file (JPEG or PNG) and keeps its bytes, so that a recording of
+// this source stores the file as it is (no re-encoding, no loss).
 ImagesSource::CameraImage load_camera_image(const SourceConfig& config, const YAML::Node& node, const std::string& key,
                                             const Camera& cam) {
   const YamlReader& r = *config.reader;
@@ -45,8 +33,8 @@ ImagesSource::CameraImage load_camera_image(const SourceConfig& config, const YA
                           std::to_string(cam.height));
   }
   EncodedImage encoded;
-  encoded.format = encoded_format(*bytes);
-  if (!encoded.format.empty()) encoded.bytes = std::move(bytes);
+  encoded.format = image_format(*bytes);
+  encoded.bytes = std::move(bytes);
   return {std::move(image), std::move(encoded)};
 }
 

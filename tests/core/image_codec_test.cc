@@ -2,15 +2,18 @@
 // and the errors a user sees for files that are not images.
 #include "core/io/image_codec.h"
 
-#include <gtest/gtest.h>
-#include <unistd.h>
+#include <turbojpeg.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+
+#include "tests/core/test_support.h"
 
 namespace omniview {
 namespace {
@@ -39,16 +42,21 @@ double max_difference(const cv::Mat& a, const cv::Mat& b) { return cv::norm(a, b
 
 double psnr(const cv::Mat& a, const cv::Mat& b) { return cv::PSNR(a, b); }
 
-class ScratchFolder : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("omniview_image_codec_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+const std::string kCorpus = OMNIVIEW_SOURCE_DIR "/tests/fuzz/corpus/image/";
+
+// The offset of the first JPEG marker `code` (0xFF code) in `jpeg`.
+size_t marker(const std::vector<uint8_t>& jpeg, uint8_t code) {
+  for (size_t i = 0; i + 1 < jpeg.size(); ++i) {
+    if (jpeg[i] == 0xff && jpeg[i + 1] == code) return i;
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
-};
+  ADD_FAILURE() << "no marker " << int(code);
+  return 0;
+}
+
+void put_u16(std::vector<uint8_t>& b, size_t at, unsigned value) {
+  b[at] = uint8_t(value >> 8);
+  b[at + 1] = uint8_t(value);
+}
 
 TEST(ImageCodec, PngKeepsGreyAndColourExactly) {
   for (const int type : {CV_8UC1, CV_8UC3}) {
@@ -140,22 +148,98 @@ TEST(ImageCodec, AJpegCutShortDecodesAsFarAsItsDataGoes) {
 }
 
 TEST(ImageCodec, AHeaderClaimingGiantSizesIsRefusedBeforeAllocating) {
-  std::vector<uint8_t> png = encode_png(picture(16, 16, CV_8UC1));
-  // IHDR's width and height (bytes 16-23) say 65535 x 65535; the CRC no longer matches,
-  // which libpng may report first: either way nothing is allocated and the reason is given.
-  for (int i = 16; i < 24; ++i) png[i] = (i % 4 < 2) ? 0x00 : 0xff;
   std::string why;
+  std::vector<uint8_t> png = encode_png(picture(16, 16, CV_8UC1));
+  // IHDR's width and height (bytes 16-23) say 65535 x 65535, its CRC (bytes 29-32, over
+  // bytes 12-28) made to match.
+  for (const size_t at : {16, 20}) png[at] = png[at + 1] = 0, put_u16(png, at + 2, 65535);
+  const uint32_t crc = static_cast<uint32_t>(crc32(0, png.data() + 12, 17));
+  for (int i = 0; i < 4; ++i) png[29 + i] = uint8_t(crc >> (24 - 8 * i));
   EXPECT_TRUE(decode_image(png, ImageColour::kAsStored, &why).empty());
-  EXPECT_FALSE(why.empty());
+  EXPECT_EQ(why, "PNG of 65535x65535 pixels is too large");
+
+  std::vector<uint8_t> jpeg = encode_jpeg(picture(16, 16, CV_8UC3), 90);
+  const size_t sof = marker(jpeg, 0xc0);  // FF C0, length, precision, height, width
+  put_u16(jpeg, sof + 5, 60000);             // libjpeg's own limit is 65500 a side
+  put_u16(jpeg, sof + 7, 60000);
+  EXPECT_TRUE(decode_image(jpeg, ImageColour::kAsStored, &why).empty());
+  EXPECT_EQ(why, "JPEG of 60000x60000 pixels is too large");
+}
+
+TEST(ImageCodec, ACallerCanAskForASmallerLimit) {
+  const std::vector<uint8_t> png = encode_png(picture(40, 30, CV_8UC1));
+  std::string why;
+  EXPECT_TRUE(decode_image(png, ImageColour::kAsStored, &why, 1199).empty());
+  EXPECT_EQ(why, "PNG of 40x30 pixels is too large");
+  EXPECT_FALSE(decode_image(png, ImageColour::kAsStored, &why, 1200).empty());
+}
+
+TEST(ImageCodec, StrayBytesBetweenJpegMarkersOnlyWarn) {
+  // Some cameras pad between segments; libjpeg warns ("extraneous bytes before marker")
+  // and decodes, as other readers do.
+  const cv::Mat colour = picture(64, 48, CV_8UC3);
+  std::vector<uint8_t> jpeg = encode_jpeg(colour, 95);
+  const size_t quantisation_table = marker(jpeg, 0xdb);
+  jpeg.insert(jpeg.begin() + static_cast<long>(quantisation_table), {0x00, 0x12, 0x34});
+  std::string why;
+  const cv::Mat back = decode_image(jpeg, ImageColour::kAsStored, &why);
+  ASSERT_FALSE(back.empty()) << why;
+  EXPECT_GT(psnr(back, colour), 35);
+}
+
+TEST(ImageCodec, CmykJpegsAreRefusedByName) {
+  const cv::Mat cmyk(16, 16, CV_8UC4, cv::Scalar(10, 20, 30, 40));
+  tjhandle tj = tjInitCompress();
+  unsigned char* jpeg = nullptr;
+  unsigned long size = 0;
+  ASSERT_EQ(tjCompress2(tj, cmyk.data, 16, 0, 16, TJPF_CMYK, &jpeg, &size, TJSAMP_444, 90, 0), 0);
+  const std::vector<uint8_t> bytes(jpeg, jpeg + size);
+  tjFree(jpeg);
+  tjDestroy(tj);
+  std::string why;
+  EXPECT_TRUE(decode_image(bytes, ImageColour::kAsStored, &why).empty());
+  EXPECT_EQ(why, "CMYK JPEGs are not supported (save it as RGB)");
+}
+
+// The seed files of the decode fuzz target, each a kind of PNG: what they decode to.
+TEST(ImageCodec, PngKindsDecodeToEightBitGreyOrBgr) {
+  // Colour (x*20, y*25, 100) under alpha x*21: the colour stays, the alpha goes.
+  const cv::Mat rgba = read_image(kCorpus + "rgba.png");
+  ASSERT_EQ(rgba.type(), CV_8UC3);
+  EXPECT_EQ(rgba.at<cv::Vec3b>(4, 7), cv::Vec3b(100, 4 * 25, 7 * 20));
+  EXPECT_EQ(rgba.at<cv::Vec3b>(0, 0), cv::Vec3b(100, 0, 0)) << "fully transparent: the colour, not black";
+  const cv::Mat grey_alpha = read_image(kCorpus + "grey_alpha.png");
+  ASSERT_EQ(grey_alpha.type(), CV_8UC1);
+  EXPECT_EQ(grey_alpha.at<uint8_t>(3, 5), 5 * 20);
+  // 16-bit grey x*5000+y, scaled to 8 bits.
+  const cv::Mat grey16 = read_image(kCorpus + "grey16.png");
+  ASSERT_EQ(grey16.type(), CV_8UC1);
+  EXPECT_NEAR(grey16.at<uint8_t>(2, 11), (11 * 5000 + 2) / 257.0, 1.0);
+  // 1-bit rows: 0x55 (even) or 0xaa (odd), then 0x0f.
+  const cv::Mat grey1 = read_image(kCorpus + "grey1.png");
+  ASSERT_EQ(grey1.type(), CV_8UC1);
+  EXPECT_EQ(grey1.at<uint8_t>(0, 0), 0);
+  EXPECT_EQ(grey1.at<uint8_t>(0, 1), 255);
+  EXPECT_EQ(grey1.at<uint8_t>(1, 0), 255);
+  EXPECT_EQ(grey1.at<uint8_t>(0, 11), 0);
+  EXPECT_EQ(grey1.at<uint8_t>(0, 12), 255);
+  // 4-bit palette red, green, blue with transparency 255, 128, 0: colours as listed.
+  const cv::Mat palette = read_image(kCorpus + "palette.png");
+  ASSERT_EQ(palette.type(), CV_8UC3);
+  EXPECT_EQ(palette.at<cv::Vec3b>(0, 0), cv::Vec3b(0, 0, 255));  // index 0: red
+  EXPECT_EQ(palette.at<cv::Vec3b>(0, 2), cv::Vec3b(0, 255, 0));  // index 1: green
+  EXPECT_EQ(palette.at<cv::Vec3b>(2, 3), cv::Vec3b(255, 0, 0));  // index 2: blue, transparent
 }
 
 TEST(ImageCodec, OnlyEightBitGreyOrBgrEncodes) {
-  EXPECT_THROW(encode_png(cv::Mat()), std::invalid_argument);
-  EXPECT_THROW(encode_png(cv::Mat(4, 4, CV_16UC1, cv::Scalar(0))), std::invalid_argument);
-  EXPECT_THROW(encode_jpeg(cv::Mat(4, 4, CV_8UC4, cv::Scalar(0))), std::invalid_argument);
+  EXPECT_THROW(encode_png(cv::Mat()), std::runtime_error);
+  EXPECT_THROW(encode_png(cv::Mat(4, 4, CV_16UC1, cv::Scalar(0))), std::runtime_error);
+  EXPECT_THROW(encode_jpeg(cv::Mat(4, 4, CV_8UC4, cv::Scalar(0))), std::runtime_error);
 }
 
-TEST_F(ScratchFolder, FilesRoundTripByExtension) {
+TEST(ImageFiles, RoundTripByExtension) {
+  const testing::TempDir dir;
+  const fs::path& dir_ = dir.path();
   const cv::Mat colour = picture(80, 60, CV_8UC3);
   write_image(dir_ / "a.png", colour);
   write_image(dir_ / "b.JPG", colour, 92);
@@ -164,7 +248,9 @@ TEST_F(ScratchFolder, FilesRoundTripByExtension) {
   EXPECT_EQ(read_image(dir_ / "a.png", ImageColour::kGrey).type(), CV_8UC1);
 }
 
-TEST_F(ScratchFolder, FileErrorsNameTheFileAndTheReason) {
+TEST(ImageFiles, ErrorsNameTheFileAndTheReason) {
+  const testing::TempDir dir;
+  const fs::path& dir_ = dir.path();
   const auto message = [](const auto& call) {
     try {
       call();

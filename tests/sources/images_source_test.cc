@@ -60,7 +60,8 @@ TEST(ImagesSource, KeepsJpegAndPngFilesAsTheyAre) {
   TempFolder dir;
   const cv::Mat back = read_image(kExample + "/back.jpg", ImageColour::kBgr);
   write_image(dir.str() + "/back.png", back);
-  for (const std::string& back_file : {dir.str() + "/back.png"}) {
+  {
+    const std::string back_file = dir.str() + "/back.png";
     TestConfig config("name: still\ntype: images\nrig: rig.yaml\nimages:\n  front: front.jpg\n  back: " + back_file +
                           "\nrate_hz: 50\n",
                       kExample);
