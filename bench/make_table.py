@@ -47,6 +47,8 @@ ROWS = [
      "", None),
     ("JPEG q85 1024×512, grey", "BM_EncodeJpeg/1024x512_grey", "cv::imencode", "BM_Anchor_cv_imencode_jpeg_1024x512_grey",
      "", None),
+    ("PNG 2048×1024, colour (libpng: level 1, SUB, RLE)", "BM_EncodePng/2048x1024_rgb", "cv::imencode, compression 1",
+     "BM_Anchor_cv_imencode_png_2048x1024_rgb", "", None),
 ]
 
 

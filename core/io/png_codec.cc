@@ -31,9 +31,10 @@ void keep_png_error(png_structp png, png_const_charp message) {
   png_longjmp(png, 1);
 }
 
-// zlib level 1, the SUB filter and run-length matching: on a 2048x1024 colour view ~1.7x as
-// fast as OpenCV's PNG at compression 1 (adaptive filters) and a little smaller; the
-// simplified API's "fast" mode (level 3, no filter) was slower and ~1.8x the size.
+// zlib level 1, the SUB filter and run-length matching: on a 2048x1024 colour view 1.5-1.7x
+// as fast as OpenCV's PNG at compression 1 (adaptive filters), within 10 % of its size
+// (bench/encode_bench.cc); the simplified API's "fast" mode (level 3, no filter) was
+// slower and ~1.8x the size.
 // Returns the reason on failure, "" on success.
 std::string write_png_rows(const cv::Mat& image, PngOutput& out) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &out, keep_png_error, nullptr);
