@@ -246,7 +246,12 @@ void render_and_write(const PreparedView& p, const std::vector<cv::Mat>& images,
   GainCompensator gains;  // one image set: its own estimate, nothing to smooth
   apply_map(p.map, images, result, channels, gains.update(p.map, images, channels));
   const double apply_ms = ms_since(t0);
-  if (const fs::path folder = fs::path(path).parent_path(); !folder.empty()) fs::create_directories(folder);
+  if (const fs::path folder = fs::path(path).parent_path(); !folder.empty()) {
+    std::error_code ec;
+    if (fs::create_directories(folder, ec); ec) {
+      throw std::runtime_error("cannot create the folder '" + folder.string() + "' for '" + path + "': " + ec.message());
+    }
+  }
   write_image(path, result);
   const ViewSpec& spec = p.view->spec;
   std::cout << std::fixed << std::setprecision(1) << path << ": " << spec.name << " (" << to_string(spec.type) << " "

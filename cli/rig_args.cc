@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <sstream>
 
 #include "core/io/image_codec.h"
@@ -93,6 +94,7 @@ cv::Mat read_camera_image(const Camera& camera, const std::string& path) {
   std::string why;
   cv::Mat img = read_image(path, ImageColour::kAsStored, &why);
   if (img.empty()) throw std::runtime_error(who + "'" + path + "' is " + why);
+  if (!why.empty()) std::cerr << "warning: " << who << "'" << path << "': " << why << "\n";  // damaged, used as is
   if (img.cols != camera.width || img.rows != camera.height) {
     throw std::runtime_error(who + "image '" + path + "' is " + std::to_string(img.cols) + "x" +
                              std::to_string(img.rows) + ", but the camera is calibrated for " +

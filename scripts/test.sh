@@ -42,7 +42,7 @@ timing_bound+="|H264Stream.AddsLessThanAFrameIntervalOfLatencyOverJpeg|H264Strea
 tsan_pending="Rtsp.WithTlsItSpeaksRtspsOnAnAddressOthersReach"
 # The exposure tests start ~110 daemons to judge listen addresses: a single-threaded check
 # at start-up, nothing for ThreadSanitizer to see: built here (CTest wants every server
-# test program), run in the release and ASan trees.
+# test program), run in the ASan tree.
 not_threaded="Exposure\\."
 
 echo "== the same tests under ASan + UBSan =="

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -88,6 +90,7 @@ cv::Mat read_image(const std::filesystem::path& file, ImageColour colour, std::s
   std::string error;
   cv::Mat image = decode_image(bytes, colour, &error);
   if (image.empty()) return fail(why, "not a decodable image (" + error + ")");
+  if (why && !error.empty()) *why = error;  // decoded, with a warning
   return image;
 }
 
@@ -113,9 +116,13 @@ void write_image(const std::filesystem::path& file, const cv::Mat& image, int jp
   } else {
     throw std::runtime_error("cannot write image '" + file.string() + "': name it .png, .jpg or .jpeg");
   }
+  errno = 0;
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-  if (!out.flush()) throw std::runtime_error("cannot write image '" + file.string() + "'");
+  if (!out.flush()) {
+    throw std::runtime_error("cannot write image '" + file.string() + "'" +
+                             (errno ? std::string(": ") + std::strerror(errno) : std::string()));
+  }
 }
 
 }  // namespace omniview

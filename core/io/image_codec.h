@@ -32,7 +32,8 @@ inline constexpr size_t kMaxImagePixels = size_t(1) << 30;
 // empty Mat for anything else, for corrupt data and for a header claiming more than
 // max_pixels, with the reason in *error when given. Where libjpeg only warns (data cut
 // short: the rest of the picture is grey; stray bytes between markers) the image is
-// returned, as other readers do. CMYK JPEGs are refused.
+// returned, as other readers do, and *error says what was wrong (a caller shows it as a
+// warning); otherwise *error is left as it was. CMYK JPEGs are refused.
 // "png" or "jpeg" by the bytes' signature, "" for anything else (nothing is decoded).
 std::string image_format(std::span<const uint8_t> bytes);
 
@@ -50,7 +51,7 @@ std::vector<uint8_t> encode_jpeg(const cv::Mat& image, int quality = 90);
 // Files: read_image throws std::runtime_error naming the file when it is missing,
 // unreadable, or not a PNG/JPEG it can decode. The second form returns an empty Mat
 // instead and says why in *why: "no such file", "it is a folder", "not readable" or "not a
-// decodable image (...)". write_image picks the format by the extension (.png, .jpg,
+// decodable image (...)"; for an image returned with a warning, *why is that warning. write_image picks the format by the extension (.png, .jpg,
 // .jpeg; any case) and throws naming the file for any other extension or a failed write.
 const std::vector<std::string>& writable_image_extensions();  // ".png", ".jpg", ".jpeg"
 cv::Mat read_image(const std::filesystem::path& file, ImageColour colour = ImageColour::kAsStored);

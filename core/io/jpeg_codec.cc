@@ -15,11 +15,13 @@ namespace omniview::codec_internal {
 namespace {
 
 // libjpeg calls error_exit for a fatal error and must not return from it: it longjmps back
-// to the phase (read_header, read_pixels) that set `jump`. Warnings are not printed.
+// to the phase (read_header, read_pixels) that set `jump`. Warnings are not printed; the
+// first is kept for the caller.
 struct JpegErrors {
   jpeg_error_mgr base;  // first: libjpeg hands error_exit a pointer to it
   std::jmp_buf jump;
   char message[JMSG_LENGTH_MAX] = {};
+  char first_warning[JMSG_LENGTH_MAX] = {};
 };
 
 void on_fatal_error(j_common_ptr info) {
@@ -29,7 +31,10 @@ void on_fatal_error(j_common_ptr info) {
 }
 
 void on_message(j_common_ptr info, int level) {
-  if (level < 0) ++info->err->num_warnings;  // a warning; trace messages (level >= 0) are dropped
+  if (level >= 0) return;  // trace messages
+  if (info->err->num_warnings++ == 0) {
+    info->err->format_message(info, reinterpret_cast<JpegErrors*>(info->err)->first_warning);
+  }
 }
 
 struct JpegReader {
@@ -92,6 +97,9 @@ cv::Mat decode_jpeg(std::span<const uint8_t> bytes, ImageColour colour, std::str
   reader.info.out_color_space = grey ? JCS_GRAYSCALE : JCS_EXT_BGR;
   cv::Mat image(static_cast<int>(info.image_height), static_cast<int>(info.image_width), grey ? CV_8UC1 : CV_8UC3);
   if (const char* why = read_pixels(reader, image)) return fail(error, std::string("corrupt JPEG: ") + why);
+  if (reader.errors.base.num_warnings > 0 && error) {
+    *error = std::string("damaged JPEG, decoded as far as it goes: ") + reader.errors.first_warning;
+  }
   return image;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 
 #include "core/io/image_codec.h"
@@ -24,9 +25,15 @@ ImagesSource::CameraImage load_camera_image(const SourceConfig& config, const YA
   auto bytes = std::make_shared<std::vector<uint8_t>>();
   if (in) bytes->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   // Grey stays grey, colour becomes BGR, as a replay of a recording will decode it.
-  std::string why = "missing, unreadable or empty";
+  std::string why;
   cv::Mat image = bytes->empty() ? cv::Mat() : decode_image(*bytes, ImageColour::kAsStored, &why);
-  if (image.empty()) r.fail(node, key, "cannot read image '" + path + "' for camera '" + cam.name + "': " + why);
+  if (image.empty()) {
+    r.fail(node, key, "cannot read image '" + path + "' for camera '" + cam.name +
+                          "': " + (bytes->empty() ? "missing, unreadable or empty" : why));
+  }
+  if (!why.empty()) {  // decoded, but damaged: served as it is, and said once
+    std::cerr << "omniviewd: image '" << path << "' for camera '" << cam.name << "': " << why << "\n";
+  }
   if (image.cols != cam.width || image.rows != cam.height) {
     r.fail(node, key, "image '" + path + "' is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
                           ", camera '" + cam.name + "' is calibrated for " + std::to_string(cam.width) + "x" +
