@@ -9,8 +9,9 @@
 #   each set is compiled once per tree (a precompiled header costs 10-20 s and 150-350 MB;
 #   there are a handful of sets, against ~70 targets);
 # - GCC uses a precompiled header only when the flags match, so a target with compile
-#   options of its own (core's -O3, generated code's -w) shares one header with the targets
-#   of the same options when it has several sources, and goes without otherwise;
+#   options of its own (core's -O3, generated code's -w, the tests' -O0 under the
+#   sanitizers) shares one header with the targets of the same options and dependencies,
+#   and goes without when it is alone with them and has few sources;
 #   -Winvalid-pch makes any mismatch show in the build log.
 # Only third-party and standard headers go in, so a change to our own headers rebuilds
 # exactly what it did before. OMNIVIEW_PCH=OFF builds without (to check that every file
@@ -89,6 +90,12 @@ function(omniview_precompile_headers)
     return()
   endif()
   omniview_targets_below(${PROJECT_SOURCE_DIR} targets)
+  get_property(project_options DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTY COMPILE_OPTIONS)
+  # First the targets worth a header, each with its dependency key and, where it has
+  # compile options of its own, a group key of those options; groups are counted so a
+  # small target shares a header only with others of its options (the tests in the
+  # sanitizer trees: -O0).
+  set(candidates)
   foreach(target IN LISTS targets)
     get_target_property(type ${target} TYPE)
     if(NOT type MATCHES "^(STATIC_LIBRARY|SHARED_LIBRARY|OBJECT_LIBRARY|EXECUTABLE)$")
@@ -106,38 +113,67 @@ function(omniview_precompile_headers)
     endif()
     # Options beyond the project-wide ones (add_compile_options) change the flags.
     get_target_property(options ${target} COMPILE_OPTIONS)
-    get_property(project_options DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTY COMPILE_OPTIONS)
-    set(own_options FALSE)
+    set(group "-")  # none: the project's options
     if(options AND NOT "${options}" STREQUAL "${project_options}")
-      set(own_options TRUE)
+      string(MD5 group "${key} ${options}")
+      get_property(members GLOBAL PROPERTY _omniview_pch_members_${group})
+      math(EXPR members "${members} + 0")
+      math(EXPR members "${members} + 1")
+      set_property(GLOBAL PROPERTY _omniview_pch_members_${group} ${members})
     endif()
-    if(NOT own_options)
+    list(APPEND candidates ${target})
+    set_property(GLOBAL PROPERTY _omniview_pch_of_${target} "${key}|${group}|${source_count}|${headers}")
+  endforeach()
+
+  foreach(target IN LISTS candidates)
+    get_property(entry GLOBAL PROPERTY _omniview_pch_of_${target})
+    string(REPLACE "|" ";" entry "${entry}")
+    list(POP_FRONT entry key group source_count)
+    set(headers ${entry})
+    if(group STREQUAL "-")
       _omniview_pch_host(${key} "${headers}" ${target} host)
       target_precompile_headers(${target} REUSE_FROM ${host})
     elseif(source_count GREATER_EQUAL 4)
       # The first target with these options and dependencies compiles the header, the
       # rest reuse it (core, cloud and robot: -O3). Not a host target: one made here, at the
       # top level, could not see packages a target's own folder finds (web's Boost).
-      string(MD5 options_key "${key} ${options}")
-      get_property(owner GLOBAL PROPERTY _omniview_pch_owner_${options_key})
+      get_property(owner GLOBAL PROPERTY _omniview_pch_owner_${group})
       if(owner)
         target_precompile_headers(${target} REUSE_FROM ${owner})
       else()
-        set_property(GLOBAL PROPERTY _omniview_pch_owner_${options_key} ${target})
+        set_property(GLOBAL PROPERTY _omniview_pch_owner_${group} ${target})
         target_precompile_headers(${target} PRIVATE ${headers})
       endif()
     else()
-      continue()
+      get_property(members GLOBAL PROPERTY _omniview_pch_members_${group})
+      if(members LESS 2)
+        continue()  # a header of its own would cost more than it saves
+      endif()
+      # Small targets sharing options (the tests under the sanitizers: -O0) share a host
+      # compiled with them. A host, not the first such target: the targets' own
+      # definitions differ (OMNIVIEW_SOURCE_DIR), and GCC refuses a header made with a
+      # definition the file lacks.
+      get_target_property(options ${target} COMPILE_OPTIONS)
+      set(own ${options})
+      list(REMOVE_ITEM own ${project_options})
+      _omniview_pch_host(${key} "${headers}" ${target} host OPTIONS ${own})
+      target_precompile_headers(${target} REUSE_FROM ${host})
     endif()
     target_compile_options(${target} PRIVATE -Winvalid-pch)
   endforeach()
 endfunction()
 
 # A host target whose only job is to compile the precompiled header for one set of
-# dependencies, with the default flags; made on first use, linking what `example` links
-# so the include paths and definitions match.
+# dependencies (and OPTIONS, where given), with the default flags; made on first use,
+# linking what `example` links so the include paths and definitions match.
 function(_omniview_pch_host key headers example out)
+  cmake_parse_arguments(PARSE_ARGV 4 arg "" "" "OPTIONS")
   set(host omniview_pch${key})
+  if(arg_OPTIONS)
+    string(MD5 options_hash "${arg_OPTIONS}")
+    string(SUBSTRING ${options_hash} 0 8 options_hash)
+    string(APPEND host _options_${options_hash})
+  endif()
   if(NOT TARGET ${host})
     set(empty ${PROJECT_BINARY_DIR}/pch/${host}.cc)
     file(WRITE ${empty} "// Compiles the precompiled header of ${host} (cmake/OmniviewPch.cmake).\n")
@@ -145,7 +181,7 @@ function(_omniview_pch_host key headers example out)
     get_target_property(libs ${example} LINK_LIBRARIES)
     target_link_libraries(${host} PRIVATE ${libs})
     target_precompile_headers(${host} PRIVATE ${headers})
-    target_compile_options(${host} PRIVATE -Winvalid-pch)
+    target_compile_options(${host} PRIVATE ${arg_OPTIONS} -Winvalid-pch)
   endif()
   set(${out} ${host} PARENT_SCOPE)
 endfunction()

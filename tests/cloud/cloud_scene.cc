@@ -29,16 +29,29 @@ std::vector<cv::Mat> render_images(const synthetic::Scene& scene, const Rig& rig
   return images;
 }
 
-bool camera_sees(const synthetic::Scene& scene, const Rig& rig, size_t index, const Vec3& p_world) {
-  const Camera& cam = rig.cameras()[index];
-  const Pose T_world_cam = rig.camera_pose("world", index);
-  const Vec3 p_cam = T_world_cam.inverse() * p_world;
+Visibility::Visibility(const synthetic::Scene& scene, const Rig& rig) : scene_(scene), rig_(rig) {
+  for (size_t i = 0; i < rig.cameras().size(); ++i) {
+    const Pose T_world_cam = rig.camera_pose("world", i);
+    T_cam_world_.push_back(T_world_cam.inverse());
+    centre_world_.push_back(T_world_cam.translation());
+  }
+}
+
+bool Visibility::camera_sees(size_t camera, const Vec3& p_world) const {
+  const Camera& cam = rig_.cameras()[camera];
+  const Vec3 p_cam = T_cam_world_[camera] * p_world;
   Vec2 uv;
   if (!project(cam.model, p_cam, uv) || !cam.in_image(uv.x(), uv.y())) return false;
-  const Vec3 origin = T_world_cam.translation();
-  const Vec3 dir = p_world - origin;
-  const auto hit = scene.intersect(origin, dir);
+  const Vec3 dir = p_world - centre_world_[camera];
+  const auto hit = scene_.intersect(centre_world_[camera], dir);
   return hit && hit->t > 1 - 1e-3;  // dir spans the whole way: t = 1 at the point
+}
+
+bool Visibility::any_camera_sees(const Vec3& p_world) const {
+  for (size_t c = 0; c < rig_.cameras().size(); ++c) {
+    if (camera_sees(c, p_world)) return true;
+  }
+  return false;
 }
 
 }  // namespace omniview::test

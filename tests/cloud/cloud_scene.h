@@ -27,9 +27,21 @@ std::shared_ptr<Rig> rig_in_world(const Pose& T_world_body);
 // Every camera's image of `scene` (one ray per pixel), grey or BGR.
 std::vector<cv::Mat> render_images(const synthetic::Scene& scene, const Rig& rig, bool grey = false);
 
-// Whether camera `index` of `rig` sees the world point `p` (inside its image and not
-// hidden by anything in `scene`).
-bool camera_sees(const synthetic::Scene& scene, const Rig& rig, size_t index, const Vec3& p_world);
+// Which cameras of `rig` see a world point (inside the image and not hidden by anything in
+// `scene`): the colouring tests' ground truth. Poses are looked up once, not per point (a
+// lookup and an inverse per point were most of those tests' time).
+class Visibility {
+ public:
+  Visibility(const synthetic::Scene& scene, const Rig& rig);
+  bool camera_sees(size_t camera, const Vec3& p_world) const;
+  bool any_camera_sees(const Vec3& p_world) const;
+
+ private:
+  const synthetic::Scene& scene_;
+  const Rig& rig_;
+  std::vector<Pose> T_cam_world_;
+  std::vector<Vec3> centre_world_;
+};
 
 inline double luma(const PointCloud::Rgb& rgb) { return 0.299 * rgb[0] + 0.587 * rgb[1] + 0.114 * rgb[2]; }
 

@@ -30,9 +30,9 @@ struct Scored {
 Scored score(const PointCloud& cloud, const std::vector<PointCloud::Rgb>& truth, const std::vector<Vec3>& world,
              const synthetic::Scene& scene, const Rig& rig) {
   Scored s;
+  const test::Visibility visibility(scene, rig);
   for (size_t i = 0; i < cloud.size(); ++i) {
-    bool visible = false;
-    for (size_t c = 0; c < rig.cameras().size() && !visible; ++c) visible = test::camera_sees(scene, rig, c, world[i]);
+    const bool visible = visibility.any_camera_sees(world[i]);
     const bool coloured = cloud.flags[i] & cloud_flags::kColoured;
     const bool close = std::abs(test::luma(cloud.rgb[i]) - test::luma(truth[i])) <= 8;
     if (visible) ++s.visible;
