@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <boost/asio/ssl.hpp>
@@ -13,6 +14,7 @@
 #include <boost/beast/websocket.hpp>
 
 #include "server/web/http/endpoint.h"
+#include "server/web/http/static_files.h"
 
 namespace omniview::web {
 
@@ -34,6 +36,8 @@ void async_shutdown_stream(beast::ssl_stream<beast::tcp_stream>& s, Handler&& do
 
 template <class Stream>
 class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
+  using Response = http::response<http::string_body>;
+
  public:
   HttpSession(Stream&& stream, std::string peer, Endpoint& endpoint, std::shared_ptr<void> slot)
       : stream_(std::move(stream)), peer_(std::move(peer)), endpoint_(endpoint), slot_(std::move(slot)) {}
@@ -74,27 +78,23 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
       return reply(static_cast<http::status>(found.status), found.status == 404 ? "not found\n" : "bad path\n",
                    request.keep_alive(), request.version());
     }
-    http::file_body::value_type body;
-    beast::error_code open_ec;
-    body.open(found.file.c_str(), beast::file_mode::scan, open_ec);
-    if (open_ec) return reply(http::status::not_found, "not found\n", request.keep_alive(), request.version());
-    auto res = std::make_shared<http::response<http::file_body>>(
-        std::piecewise_construct, std::make_tuple(std::move(body)), std::make_tuple(http::status::ok, request.version()));
+    // Read whole: the console's files are small (the largest, three.js, ~1 MB), and one
+    // body type for every reply compiles one write path per stream, not three.
+    std::optional<std::string> body = read_file(found.file);
+    if (!body) return reply(http::status::not_found, "not found\n", request.keep_alive(), request.version());
+    auto res = std::make_shared<Response>(http::status::ok, request.version());
     decorate(*res, found.content_type);
     res->keep_alive(request.keep_alive());
-    res->prepare_payload();
     if (request.method() == http::verb::head) {
-      auto head = std::make_shared<http::response<http::empty_body>>(http::status::ok, request.version());
-      decorate(*head, found.content_type);
-      head->content_length(res->body().size());
-      head->keep_alive(request.keep_alive());
-      return send(head);
+      res->content_length(body->size());  // what a GET would say, without the body
+    } else {
+      res->body() = std::move(*body);
+      res->prepare_payload();
     }
     send(res);
   }
 
-  template <class Body>
-  void decorate(http::response<Body>& res, const std::string& type) {
+  void decorate(Response& res, const std::string& type) {
     res.set(http::field::server, "omniviewd");
     res.set(http::field::content_type, type);
     // The console is always the daemon's current one; the browser asks again (304-free: small files).
@@ -115,7 +115,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   }
 
   void reply(http::status status, std::string text, bool keep_alive, unsigned version = 11) {
-    auto res = std::make_shared<http::response<http::string_body>>(status, version);
+    auto res = std::make_shared<Response>(status, version);
     decorate(*res, "text/plain; charset=utf-8");
     res->body() = std::move(text);
     res->keep_alive(keep_alive);
@@ -123,7 +123,6 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     send(res);
   }
 
-  template <class Response>
   void send(std::shared_ptr<Response> res) {
     http::async_write(stream_, *res,
                       [self = this->shared_from_this(), res](beast::error_code ec, size_t) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 namespace omniview::web {
 namespace fs = std::filesystem;
@@ -76,6 +78,20 @@ std::string content_type_of(const std::string& file) {
     if (ext == e) return type;
   }
   return "application/octet-stream";
+}
+
+std::optional<std::string> read_file(const std::string& file) {
+  constexpr std::uintmax_t kMaxBytes = 64u << 20;
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (ec || size > kMaxBytes) return std::nullopt;
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::string bytes;
+  bytes.reserve(size);
+  bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) return std::nullopt;
+  return bytes;
 }
 
 }  // namespace omniview::web

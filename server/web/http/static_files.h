@@ -2,6 +2,7 @@
 // served (no "..", no links out, regular files only), each with its content type.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,5 +27,9 @@ class StaticFiles {
 };
 
 std::string content_type_of(const std::string& file);
+
+// The whole of a file found above; nullopt when it cannot be read (or is over 64 MiB, which
+// no console file comes near).
+std::optional<std::string> read_file(const std::string& file);
 
 }  // namespace omniview::web
