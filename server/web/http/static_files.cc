@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 
 namespace omniview::web {
 namespace fs = std::filesystem;
@@ -87,10 +86,10 @@ std::optional<std::string> read_file(const std::string& file) {
   if (ec || size > kMaxBytes) return std::nullopt;
   std::ifstream in(file, std::ios::binary);
   if (!in) return std::nullopt;
-  std::string bytes;
-  bytes.reserve(size);
-  bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (in.bad()) return std::nullopt;
+  // Exactly the size found: a read cut short (an error, the file shrinking) is no file,
+  // never a truncated 200; bytes appended meanwhile are not sent.
+  std::string bytes(static_cast<size_t>(size), '\0');
+  if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) return std::nullopt;
   return bytes;
 }
 
