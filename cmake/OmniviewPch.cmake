@@ -9,8 +9,8 @@
 #   each set is compiled once per tree (a precompiled header costs 10-20 s and 150-350 MB;
 #   there are a handful of sets, against ~70 targets);
 # - GCC uses a precompiled header only when the flags match, so a target with compile
-#   options of its own (core's -O3, generated code's -w, the tests' -O0 under the
-#   sanitizers) shares one header with the targets of the same options and dependencies,
+#   options of its own (core's -O3, generated code's -w, the tests' -O0 in the ASan
+#   tree) shares one header with the targets of the same options and dependencies,
 #   and goes without when it is alone with them and has few sources;
 #   -Winvalid-pch makes any mismatch show in the build log.
 # Only third-party and standard headers go in, so a change to our own headers rebuilds
@@ -93,8 +93,8 @@ function(omniview_precompile_headers)
   get_property(project_options DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTY COMPILE_OPTIONS)
   # First the targets worth a header, each with its dependency key and, where it has
   # compile options of its own, a group key of those options; groups are counted so a
-  # small target shares a header only with others of its options (the tests in the
-  # sanitizer trees: -O0).
+  # small target shares a header only with others of its options (the tests in the ASan
+  # tree: -O0).
   set(candidates)
   foreach(target IN LISTS targets)
     get_target_property(type ${target} TYPE)
@@ -149,7 +149,7 @@ function(omniview_precompile_headers)
       if(members LESS 2)
         continue()  # a header of its own would cost more than it saves
       endif()
-      # Small targets sharing options (the tests under the sanitizers: -O0) share a host
+      # Small targets sharing options (the tests in the ASan tree: -O0) share a host
       # compiled with them. A host, not the first such target: the targets' own
       # definitions differ (OMNIVIEW_SOURCE_DIR), and GCC refuses a header made with a
       # definition the file lacks.
