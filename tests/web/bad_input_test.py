@@ -182,6 +182,27 @@ class BadInputTest(unittest.TestCase):
         with urllib.request.urlopen(base + "/", timeout=seconds(5)) as r:
             self.assertIn(b"omniview console", r.read())
 
+    def test_head_says_the_length_and_sends_no_body(self):
+        # Each HEAD is followed on the same connection by a GET, sent at once: a body after
+        # the HEAD's headers would be read as the start of the GET's reply. (A raw socket:
+        # http.client drops what arrived with a HEAD reply's headers, so it would not see it.)
+        host, port = self.robot.web.rsplit(":", 1)
+        with urllib.request.urlopen(f"http://{self.robot.web}/", timeout=seconds(5)) as r:
+            page = r.read()
+        for path, code, length in (("/", 200, len(page)), ("/no/such/file.js", 404, len(b"not found\n")),
+                                   ("/%zz", 400, len(b"bad path\n"))):
+            with socket.create_connection((host, int(port)), timeout=seconds(5)) as s:
+                s.sendall(f"HEAD {path} HTTP/1.1\r\nHost: x\r\n\r\nGET / HTTP/1.1\r\nHost: x\r\n\r\n".encode())
+                received = b""
+                while not received.endswith(page):
+                    chunk = s.recv(65536)
+                    self.assertTrue(chunk, f"{path}: closed after {received[:300]!r}")
+                    received += chunk
+            head, rest = received.split(b"\r\n\r\n", 1)
+            self.assertTrue(head.startswith(f"HTTP/1.1 {code} ".encode()), head)
+            self.assertIn(f"\r\nContent-Length: {length}\r\n".encode(), head + b"\r\n")
+            self.assertTrue(rest.startswith(b"HTTP/1.1 200 "), f"{path}: after the HEAD reply's headers: {rest[:60]!r}")
+
     def test_a_client_that_never_reads_slows_nobody(self):
         host, port = self.robot.web.rsplit(":", 1)
         stalled = socket.socket()

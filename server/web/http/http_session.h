@@ -70,28 +70,33 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     Request request = parser_->release();
     if (beast::websocket::is_upgrade(request)) return upgrade(std::move(request));
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
-      return reply(http::status::method_not_allowed, "only GET and HEAD are served here\n", request.keep_alive(),
-                   request.version());
+      return reply(http::status::method_not_allowed, "only GET and HEAD are served here\n", request);
     }
     const auto found = endpoint_.files().find(std::string(request.target()));
     if (found.status != 200) {
       return reply(static_cast<http::status>(found.status), found.status == 404 ? "not found\n" : "bad path\n",
-                   request.keep_alive(), request.version());
+                   request);
     }
     // Read whole: the console's files are small (the largest, three.js, ~1 MB), and one
     // body type for every reply compiles one write path per stream, not three.
     std::optional<std::string> body = read_file(found.file);
-    if (!body) return reply(http::status::not_found, "not found\n", request.keep_alive(), request.version());
+    if (!body) return reply(http::status::not_found, "not found\n", request);
     auto res = std::make_shared<Response>(http::status::ok, request.version());
     decorate(*res, found.content_type);
     res->keep_alive(request.keep_alive());
-    if (request.method() == http::verb::head) {
-      res->content_length(body->size());  // what a GET would say, without the body
-    } else {
-      res->body() = std::move(*body);
-      res->prepare_payload();
-    }
+    set_body(*res, std::move(*body), request.method() == http::verb::head);
     send(res);
+  }
+
+  // A HEAD reply says what the GET's would (its Content-Length) and sends no body: a
+  // body there would be read as the start of the next reply on a kept-alive connection.
+  static void set_body(Response& res, std::string body, bool head) {
+    if (head) {
+      res.content_length(body.size());
+    } else {
+      res.body() = std::move(body);
+      res.prepare_payload();
+    }
   }
 
   void decorate(Response& res, const std::string& type) {
@@ -114,12 +119,16 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
         ->start(std::move(request), decision.subprotocol, decision.make);
   }
 
-  void reply(http::status status, std::string text, bool keep_alive, unsigned version = 11) {
+  // A short text reply to a request that was read (keep-alive and HEAD as it asked).
+  void reply(http::status status, std::string text, const Request& request) {
+    reply(status, std::move(text), request.keep_alive(), request.version(), request.method() == http::verb::head);
+  }
+
+  void reply(http::status status, std::string text, bool keep_alive, unsigned version = 11, bool head = false) {
     auto res = std::make_shared<Response>(status, version);
     decorate(*res, "text/plain; charset=utf-8");
-    res->body() = std::move(text);
     res->keep_alive(keep_alive);
-    res->prepare_payload();
+    set_body(*res, std::move(text), head);
     send(res);
   }
 
