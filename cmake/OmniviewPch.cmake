@@ -9,10 +9,11 @@
 #   each set is compiled once per tree (a precompiled header costs 10-20 s and 150-350 MB;
 #   there are a handful of sets, against ~70 targets);
 # - GCC uses a precompiled header only when the flags match, so a target with compile
-#   options of its own (core's -O3, generated code's -w, the tests' -O0 in the ASan
-#   tree) shares one header with the targets of the same options and dependencies,
+#   options of its own (core's -O3, generated code's -w) shares one header with the
+#   targets of the same options and dependencies,
 #   and goes without when it is alone with them and has few sources;
-#   -Winvalid-pch makes any mismatch show in the build log.
+#   -Werror=invalid-pch makes any mismatch fail the build (a header GCC silently passes
+#   over costs its whole parse in every file of the target).
 # Only third-party and standard headers go in, so a change to our own headers rebuilds
 # exactly what it did before. OMNIVIEW_PCH=OFF builds without (to check that every file
 # includes what it uses).
@@ -93,8 +94,7 @@ function(omniview_precompile_headers)
   get_property(project_options DIRECTORY ${PROJECT_SOURCE_DIR} PROPERTY COMPILE_OPTIONS)
   # First the targets worth a header, each with its dependency key and, where it has
   # compile options of its own, a group key of those options; groups are counted so a
-  # small target shares a header only with others of its options (the tests in the ASan
-  # tree: -O0).
+  # small target shares a header only with others of its options (generated code: -w).
   set(candidates)
   foreach(target IN LISTS targets)
     get_target_property(type ${target} TYPE)
@@ -133,34 +133,49 @@ function(omniview_precompile_headers)
     if(group STREQUAL "-")
       _omniview_pch_host(${key} "${headers}" ${target} host)
       target_precompile_headers(${target} REUSE_FROM ${host})
-    elseif(source_count GREATER_EQUAL 4)
-      # The first target with these options and dependencies compiles the header, the
-      # rest reuse it (core, cloud and robot: -O3). Not a host target: one made here, at the
-      # top level, could not see packages a target's own folder finds (web's Boost).
-      get_property(owner GLOBAL PROPERTY _omniview_pch_owner_${group})
-      if(owner)
-        target_precompile_headers(${target} REUSE_FROM ${owner})
-      else()
-        set_property(GLOBAL PROPERTY _omniview_pch_owner_${group} ${target})
-        target_precompile_headers(${target} PRIVATE ${headers})
-      endif()
     else()
+      # Targets sharing options of their own (generated code's -w; core, cloud and
+      # robot's -O3) share one header made with them. A host,
+      # not the first such target: the targets' own definitions differ
+      # (OMNIVIEW_SOURCE_DIR), and GCC refuses a header made with a definition the file lacks.
       get_property(members GLOBAL PROPERTY _omniview_pch_members_${group})
-      if(members LESS 2)
+      _omniview_links_visible_here(${target} visible)
+      if(members GREATER_EQUAL 2 AND visible)
+        get_target_property(options ${target} COMPILE_OPTIONS)
+        set(own ${options})
+        list(REMOVE_ITEM own ${project_options})
+        _omniview_pch_host(${key} "${headers}" ${target} host OPTIONS ${own})
+        target_precompile_headers(${target} REUSE_FROM ${host})
+      elseif(source_count GREATER_EQUAL 4)
+        # A host made here, at the top level, cannot see packages a target's own folder
+        # finds (web's Boost): the first such target compiles the header, the rest reuse it.
+        get_property(owner GLOBAL PROPERTY _omniview_pch_owner_${group})
+        if(owner)
+          target_precompile_headers(${target} REUSE_FROM ${owner})
+        else()
+          set_property(GLOBAL PROPERTY _omniview_pch_owner_${group} ${target})
+          target_precompile_headers(${target} PRIVATE ${headers})
+        endif()
+      else()
         continue()  # a header of its own would cost more than it saves
       endif()
-      # Small targets sharing options (the tests in the ASan tree: -O0) share a host
-      # compiled with them. A host, not the first such target: the targets' own
-      # definitions differ (OMNIVIEW_SOURCE_DIR), and GCC refuses a header made with a
-      # definition the file lacks.
-      get_target_property(options ${target} COMPILE_OPTIONS)
-      set(own ${options})
-      list(REMOVE_ITEM own ${project_options})
-      _omniview_pch_host(${key} "${headers}" ${target} host OPTIONS ${own})
-      target_precompile_headers(${target} REUSE_FROM ${host})
     endif()
-    target_compile_options(${target} PRIVATE -Winvalid-pch)
+    target_compile_options(${target} PRIVATE -Werror=invalid-pch)
   endforeach()
+endfunction()
+
+# Whether every library `target` links directly is a target (or a flag) seen from here,
+# the top level: a host linking them then gets the same include paths and definitions.
+function(_omniview_links_visible_here target out)
+  get_target_property(libs ${target} LINK_LIBRARIES)
+  foreach(item IN LISTS libs)
+    string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" item "${item}")
+    if(NOT TARGET "${item}" AND NOT item MATCHES "^-")
+      set(${out} FALSE PARENT_SCOPE)
+      return()
+    endif()
+  endforeach()
+  set(${out} TRUE PARENT_SCOPE)
 endfunction()
 
 # A host target whose only job is to compile the precompiled header for one set of
@@ -181,7 +196,7 @@ function(_omniview_pch_host key headers example out)
     get_target_property(libs ${example} LINK_LIBRARIES)
     target_link_libraries(${host} PRIVATE ${libs})
     target_precompile_headers(${host} PRIVATE ${headers})
-    target_compile_options(${host} PRIVATE ${arg_OPTIONS} -Winvalid-pch)
+    target_compile_options(${host} PRIVATE ${arg_OPTIONS} -Werror=invalid-pch)
   endif()
   set(${out} ${host} PARENT_SCOPE)
 endfunction()

@@ -49,11 +49,5 @@ function(omniview_add_proto_library target)
   # Generated code is not ours to warn about, and each file defines the same file-level
   # names (schemas, file_default_instances): one translation unit per file.
   target_compile_options(${target} PRIVATE -w)
-  # In the ASan tree generated code compiles at -O0, still instrumented: at -O2 it took
-  # ~225 CPU-s there (omniview.pb.cc alone 26 s, 10 s at -O0), and its work at run time is
-  # copying fields (a frame's bytes are one memcpy inside libprotobuf).
-  if(OMNIVIEW_SANITIZE)
-    target_compile_options(${target} PRIVATE -O0)
-  endif()
   set_target_properties(${target} PROPERTIES UNITY_BUILD OFF)
 endfunction()

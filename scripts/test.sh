@@ -17,8 +17,8 @@ stage "install dependencies" bash scripts/install-deps.sh
 command -v ccache > /dev/null && ccache --zero-stats > /dev/null  # counts for this run only
 # Every other test runs in the sanitizer trees only (the serving half in both): their checks
 # do not depend on speed, the sanitizers check more than a release run would, and the
-# sanitizer trees build the code under test at -O2 -DNDEBUG like release (in the ASan tree
-# the tests' own code and generated protobuf code at -O0: tests/CMakeLists.txt says why).
+# sanitizer trees build with -DNDEBUG like release: the TSan tree at -O2, the ASan tree at
+# -O0 but for the hot paths' -O3 (the top-level CMakeLists.txt says why).
 stage "release: build" bash scripts/build.sh programs timing_tests golden_test
 seed_test_costs build
 stage "release: tests" ctest --test-dir build --output-on-failure -j "$jobs" -L "timing|sweep|packaging"
