@@ -5,15 +5,16 @@
 # omniview_precompile_headers() runs once, after every target is defined, and gives each
 # C++ target the precompiled headers of the dependencies it links (directly or through
 # other targets), so no source file needs to know about it:
-# - every target reuses the header of a host target made for its set of dependencies, so
-#   each set is compiled once per tree (a precompiled header costs 10-20 s and 150-350 MB;
-#   there are a handful of sets, against ~70 targets);
-# - GCC uses a precompiled header only when the flags match, so a target with compile
-#   options of its own (core's -O3, generated code's -w) shares one header with the
-#   targets of the same options and dependencies,
-#   and goes without when it is alone with them and has few sources;
-#   -Werror=invalid-pch makes any mismatch fail the build (a header GCC silently passes
-#   over costs its whole parse in every file of the target).
+# - every target reuses the header of a host target made for its set of dependencies and
+#   compile options of its own (core's -O3, generated code's -w), so each set is compiled
+#   once per tree (a precompiled header costs 10-20 s and 150-350 MB; there are a handful
+#   of sets, against ~70 targets). GCC refuses a header made with other macros or
+#   code-generation flags (-O0 against -O2, -pthread's _REENTRANT), hence the sets;
+# - a target whose libraries a host at the top level could not link (Boost, found in
+#   server/web) compiles the header itself for the others of its set, if it has four
+#   sources or more; a small target alone with its options goes without;
+# - -Werror=invalid-pch makes a header GCC passes over fail the build (it would cost its
+#   whole parse in every file of the target); generated code's -w silences it there.
 # Only third-party and standard headers go in, so a change to our own headers rebuilds
 # exactly what it did before. OMNIVIEW_PCH=OFF builds without (to check that every file
 # includes what it uses).
@@ -70,6 +71,7 @@ endfunction()
 # The headers worth precompiling for `target` (empty: none), and a key naming that set.
 function(_omniview_pch_headers target headers_out key_out)
   _omniview_link_closure(${target} closure)
+  list(REMOVE_ITEM closure ${target})  # omniview_proto's own headers come from its build
   set(headers)
   set(key)
   foreach(dependency IN LISTS _omniview_pch_dependencies)
@@ -130,35 +132,33 @@ function(omniview_precompile_headers)
     string(REPLACE "|" ";" entry "${entry}")
     list(POP_FRONT entry key group source_count)
     set(headers ${entry})
-    if(group STREQUAL "-")
-      _omniview_pch_host(${key} "${headers}" ${target} host)
+    set(own)
+    if(NOT group STREQUAL "-")
+      get_target_property(own ${target} COMPILE_OPTIONS)
+      list(REMOVE_ITEM own ${project_options})
+    endif()
+    # Targets of the same dependencies and own options (none; generated code's -w; core,
+    # cloud and robot's -O3) share one host's header. A host, not the first such target:
+    # the targets' own definitions differ (OMNIVIEW_SOURCE_DIR), and GCC refuses a header
+    # made with a definition the file lacks.
+    _omniview_pch_host_name(${key} "${own}" host)
+    _omniview_links_visible_here(${target} visible)
+    get_property(members GLOBAL PROPERTY _omniview_pch_members_${group})
+    if(TARGET ${host} OR (visible AND (group STREQUAL "-" OR members GREATER_EQUAL 2)))
+      _omniview_pch_host(${key} "${headers}" ${target} host OPTIONS ${own})
       target_precompile_headers(${target} REUSE_FROM ${host})
-    else()
-      # Targets sharing options of their own (generated code's -w; core, cloud and
-      # robot's -O3) share one header made with them. A host,
-      # not the first such target: the targets' own definitions differ
-      # (OMNIVIEW_SOURCE_DIR), and GCC refuses a header made with a definition the file lacks.
-      get_property(members GLOBAL PROPERTY _omniview_pch_members_${group})
-      _omniview_links_visible_here(${target} visible)
-      if(members GREATER_EQUAL 2 AND visible)
-        get_target_property(options ${target} COMPILE_OPTIONS)
-        set(own ${options})
-        list(REMOVE_ITEM own ${project_options})
-        _omniview_pch_host(${key} "${headers}" ${target} host OPTIONS ${own})
-        target_precompile_headers(${target} REUSE_FROM ${host})
-      elseif(source_count GREATER_EQUAL 4)
-        # A host made here, at the top level, cannot see packages a target's own folder
-        # finds (web's Boost): the first such target compiles the header, the rest reuse it.
-        get_property(owner GLOBAL PROPERTY _omniview_pch_owner_${group})
-        if(owner)
-          target_precompile_headers(${target} REUSE_FROM ${owner})
-        else()
-          set_property(GLOBAL PROPERTY _omniview_pch_owner_${group} ${target})
-          target_precompile_headers(${target} PRIVATE ${headers})
-        endif()
+    elseif(source_count GREATER_EQUAL 4)
+      # A host made here, at the top level, cannot link packages a target's own folder
+      # finds (web's Boost): the first such target compiles the header, the rest reuse it.
+      get_property(owner GLOBAL PROPERTY _omniview_pch_owner_${host})
+      if(owner)
+        target_precompile_headers(${target} REUSE_FROM ${owner})
       else()
-        continue()  # a header of its own would cost more than it saves
+        set_property(GLOBAL PROPERTY _omniview_pch_owner_${host} ${target})
+        target_precompile_headers(${target} PRIVATE ${headers})
       endif()
+    else()
+      continue()  # a header of its own would cost more than it saves
     endif()
     target_compile_options(${target} PRIVATE -Werror=invalid-pch)
   endforeach()
@@ -168,8 +168,12 @@ endfunction()
 # the top level: a host linking them then gets the same include paths and definitions.
 function(_omniview_links_visible_here target out)
   get_target_property(libs ${target} LINK_LIBRARIES)
+  if(NOT libs)
+    set(libs)
+  endif()
   foreach(item IN LISTS libs)
     string(REGEX REPLACE "^\\$<LINK_ONLY:(.*)>$" "\\1" item "${item}")
+    string(REGEX REPLACE "^\\$<LINK_LIBRARY:[^,]*,(.*)>$" "\\1" item "${item}")
     if(NOT TARGET "${item}" AND NOT item MATCHES "^-")
       set(${out} FALSE PARENT_SCOPE)
       return()
@@ -178,17 +182,23 @@ function(_omniview_links_visible_here target out)
   set(${out} TRUE PARENT_SCOPE)
 endfunction()
 
+# The name of the host target for dependency key `key` and own compile options `options`.
+function(_omniview_pch_host_name key options out)
+  set(host omniview_pch${key})
+  if(options)
+    string(MD5 options_hash "${options}")
+    string(SUBSTRING ${options_hash} 0 8 options_hash)
+    string(APPEND host _options_${options_hash})
+  endif()
+  set(${out} ${host} PARENT_SCOPE)
+endfunction()
+
 # A host target whose only job is to compile the precompiled header for one set of
 # dependencies (and OPTIONS, where given), with the default flags; made on first use,
 # linking what `example` links so the include paths and definitions match.
 function(_omniview_pch_host key headers example out)
   cmake_parse_arguments(PARSE_ARGV 4 arg "" "" "OPTIONS")
-  set(host omniview_pch${key})
-  if(arg_OPTIONS)
-    string(MD5 options_hash "${arg_OPTIONS}")
-    string(SUBSTRING ${options_hash} 0 8 options_hash)
-    string(APPEND host _options_${options_hash})
-  endif()
+  _omniview_pch_host_name(${key} "${arg_OPTIONS}" host)
   if(NOT TARGET ${host})
     set(empty ${PROJECT_BINARY_DIR}/pch/${host}.cc)
     file(WRITE ${empty} "// Compiles the precompiled header of ${host} (cmake/OmniviewPch.cmake).\n")

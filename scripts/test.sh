@@ -3,7 +3,8 @@
 # - release: the programs, and the tests whose latency and rate bounds the sanitizer trees
 #   relax (label `timing`, checked here at 1x) plus what only an optimised build can run
 #   (label `sweep`, the install tree);
-# - every test under AddressSanitizer + UndefinedBehaviorSanitizer (time bounds x2);
+# - every test under AddressSanitizer + UndefinedBehaviorSanitizer (time bounds x2) but the
+#   `sweep`s and the few whose premise is a rate (timing_bound below);
 # - the serving half (label `server`: daemon, sources, clients) under ThreadSanitizer.
 # Each stage's time is printed at the end (also when a stage fails), so a slower stage is
 # seen at once; ccache (scripts/install-deps.sh) keeps rebuilds of unchanged files cheap.
@@ -17,14 +18,16 @@ stage "install dependencies" bash scripts/install-deps.sh
 command -v ccache > /dev/null && ccache --zero-stats > /dev/null  # counts for this run only
 # Every other test runs in the sanitizer trees only (the serving half in both): their checks
 # do not depend on speed, the sanitizers check more than a release run would, and the
-# sanitizer trees build with -DNDEBUG like release: the TSan tree at -O2, the ASan tree at
-# -O0 but for the hot paths' -O3 (the top-level CMakeLists.txt says why).
+# sanitizer trees build with -DNDEBUG like release: the TSan tree at -O2 (its tests' own
+# code -O1, the web endpoint -O0), the ASan tree at -O0 but for the hot paths' -O3 (the
+# top-level CMakeLists.txt, tests/CMakeLists.txt and server/web/CMakeLists.txt say why).
 stage "release: build" bash scripts/build.sh programs timing_tests golden_test
 seed_test_costs build
 stage "release: tests" ctest --test-dir build --output-on-failure -j "$jobs" -L "timing|sweep|packaging"
 
 # Sanitizer trees: -g1 (function names and lines, no variable info) keeps them quick to
-# build; no benchmarks, examples or other programs their tests do not run.
+# build; no benchmarks. The TSan tree builds only its tests' programs; the ASan tree builds
+# every other target too (three sample-making tools, ~7 s: not worth a target list to keep).
 sanitizer_tree() {  # DIR FLAG
   cmake -S . -B "$1" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
     -D"$2"=ON -DOMNIVIEW_BUILD_TESTS=ON -DOMNIVIEW_BUILD_BENCH=OFF > /dev/null
