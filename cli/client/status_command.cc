@@ -44,7 +44,11 @@ int status_command(const std::vector<std::string>& argv) {
   for (const auto& s : status.sources()) {
     std::string cameras;
     for (const auto& c : s.active_cameras()) cameras += (cameras.empty() ? "" : ",") + c;
-    sources.add({s.name(), s.type(), s.connected() ? "yes" : "NO", fixed(s.rate_hz(), 1) + " Hz",
+    // Frames arriving while many calls fail is neither "yes" nor "NO".
+    const std::string connected = !s.connected() ? "NO"
+                                  : s.degraded() ? "degraded (" + fixed(100 * s.failure_rate(), 0) + "% failed)"
+                                                 : "yes";
+    sources.add({s.name(), s.type(), connected, fixed(s.rate_hz(), 1) + " Hz",
                  age_text(s.last_frame_age_s()), std::to_string(s.frames()), std::to_string(s.errors()),
                  std::to_string(s.dropped()), cameras.empty() ? "-" : cameras, s.message()});
   }

@@ -165,14 +165,18 @@ function showStatus(st) {
   }
   el.replaceChildren(...parts);
   const down = (st.sources || []).filter((s) => !s.connected);
+  const degraded = (st.sources || []).filter((s) => s.connected && s.degraded);
   const stale = app.panes.find((p) => p.header && p.header.stale);
   const banner = $('banner');
   if (down.length) {
     banner.textContent = `Robot disconnected: ${down.map((s) => `${s.name}: ${s.message || 'not connected'}`).join('; ')}`;
   } else if (stale) {
     banner.textContent = `Not live: ${stale.header.staleReason || 'no new images'}`;
+  } else if (degraded.length) {
+    banner.textContent = `Robot link degraded: ${degraded.map((s) =>
+      `${s.name}: ${Math.round(100 * (s.failureRate || 0))}% of requests fail${s.message ? ' (' + s.message + ')' : ''}`).join('; ')}`;
   }
-  banner.hidden = !(down.length || stale);
+  banner.hidden = !(down.length || stale || degraded.length);
 }
 
 async function pollStatus() {

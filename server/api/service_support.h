@@ -32,6 +32,8 @@ grpc::Status guarded(F&& body) {
     return bounded(grpc::StatusCode::INVALID_ARGUMENT, e.what());
   } catch (const std::exception& e) {
     return bounded(grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
+  } catch (...) {
+    return bounded(grpc::StatusCode::INTERNAL, "internal error");
   }
 }
 

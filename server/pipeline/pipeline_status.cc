@@ -11,6 +11,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// One request in ten failing is more than a good link loses, and shows in the frame rate.
+constexpr double kDegradedFailureRate = 0.1;
+
 }  // namespace
 
 v1::Status Pipeline::status() const {
@@ -34,6 +37,8 @@ v1::Status Pipeline::status() const {
     s->set_errors(health.errors);
     s->set_dropped(stats.dropped);
     s->set_message(health.message);
+    s->set_failure_rate(health.failure_rate);
+    s->set_degraded(health.connected && health.failure_rate >= kDegradedFailureRate);
   }
   std::vector<std::shared_ptr<LiveView>> views;
   {

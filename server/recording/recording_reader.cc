@@ -216,8 +216,13 @@ std::vector<cv::Mat> Recording::load_images(const RecordingFrame& frame, std::ve
     in.seekg(0);
     in.read(reinterpret_cast<char*>(bytes->data()), static_cast<std::streamsize>(bytes->size()));
     if (!in) bytes->clear();  // unreadable: reported as corrupt below
-    cv::Mat image = bytes->empty() ? cv::Mat() : decode_image(*bytes);
-    if (image.empty()) throw std::runtime_error(path + ": corrupt image of camera '" + camera_names[i] + "'");
+    std::string why;
+    cv::Mat image = bytes->empty() ? cv::Mat() : decode_image(*bytes, ImageColour::kAsStored, &why);
+    // Decoded only in part (a file cut short) is corrupt too: never a grey patch replayed as picture.
+    if (image.empty() || !why.empty()) {
+      throw std::runtime_error(path + ": corrupt image of camera '" + camera_names[i] + "'" +
+                               (why.empty() ? "" : " (" + why + ")"));
+    }
     const Camera& cam = rig.cameras()[i];
     if (image.cols != cam.width || image.rows != cam.height) {
       throw std::runtime_error(path + ": image is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +

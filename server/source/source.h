@@ -26,6 +26,7 @@ struct SourceHealth {
   uint64_t frames = 0;   // frame sets delivered
   uint64_t errors = 0;   // bad images/responses skipped
   std::string message;   // the last problem, for a person to read; empty when all is well
+  double failure_rate = 0;  // recent failed requests to the robot, 0..1 (SourceStatus.failure_rate)
 };
 
 class Source {

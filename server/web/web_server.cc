@@ -110,10 +110,26 @@ WebServer::WebServer(const DaemonConfig& config, Pipeline& pipeline, const Authe
              std::to_string(bound.port());
   accept();
   // One thread moves the bytes (TLS included); calls that may block run on workers_.
-  threads_.emplace_back([this] { ioc_.run(); });
+  threads_.emplace_back([this] { run_io(); });
 }
 
 WebServer::~WebServer() { stop(); }
+
+// Sessions catch what their handlers throw (a 500, a close with 1011); this is the net
+// under that net: an exception out of any other handler is logged and the loop goes on,
+// as Asio's documentation advises, instead of ending the thread and with it the daemon.
+void WebServer::run_io() {
+  for (;;) {
+    try {
+      ioc_.run();
+      return;
+    } catch (const std::exception& e) {
+      std::cerr << "omniviewd: web: internal error in the I/O loop: " << e.what() << std::endl;
+    } catch (...) {
+      std::cerr << "omniviewd: web: internal error in the I/O loop (an exception of unknown type)" << std::endl;
+    }
+  }
+}
 
 std::string WebServer::url() const { return std::string(tls_ ? "https://" : "http://") + address_ + "/"; }
 
@@ -164,17 +180,24 @@ UpgradeDecision WebServer::upgrade(const Request& request, const std::string& pe
     return d;
   }
   std::optional<Caller> caller;
-  if (up.token) {
+  for (const std::string& token : up.tokens) {  // every one given must be valid; the first decides
     Caller who;
-    const grpc::Status s = auth_.check_header("Bearer " + *up.token, Role::kViewer, &who);
+    const grpc::Status s = auth_.check_header("Bearer " + token, Role::kViewer, &who);
     if (!s.ok()) {
       log_refusal(peer, s.error_message());
       d.status = 401;
       d.message = s.error_message();
+      // A '+' left as it is in a URL's query reads as a space: say how to write the token.
+      if (token.find(' ') != std::string::npos) {
+        d.message = "the token in the URL (?token=) has a space where it had a '+': percent-encode the token in "
+                    "a URL (+ as %2B, / as %2F, = as %3D), or send it in an 'Authorization: Bearer' header";
+      }
       return d;
     }
-    caller = who;
-    if (auth_.enabled()) context_.authenticated(peer, up.answer.empty() ? kConsoleSubprotocol : up.answer, who);
+    if (!caller) caller = who;
+  }
+  if (caller) {
+    if (auth_.enabled()) context_.authenticated(peer, up.answer.empty() ? kConsoleSubprotocol : up.answer, *caller);
   } else if (!auth_.enabled()) {
     caller = Caller{Role::kOperator, ""};
   }

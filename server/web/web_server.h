@@ -55,6 +55,7 @@ class WebServer : public Endpoint {
 
  private:
   void accept();
+  void run_io();  // the I/O thread's loop
   void on_accept(boost::beast::error_code ec, net::ip::tcp::socket socket);
   void log_refusal(const std::string& peer, const std::string& why);
   void track(const std::shared_ptr<Connection>& connection);  // closed at stop()

@@ -90,7 +90,12 @@ DecodedImage decode_image_response(const api::ImageResponse& response, const std
       }
       std::string why;
       out.image = decode_image(img.data(), ImageColour::kAsStored, &why);
-      if (out.image.empty()) fail(camera, why + " (" + std::to_string(img.data().size()) + " bytes)");
+      // A JPEG that decoded only in part (libjpeg's warning: truncated, a bad Huffman code)
+      // is as much an error as one that did not decode: its rest would be a flat grey patch
+      // shown as live picture. The camera's last whole image stands in for it.
+      const std::string bytes = " (" + std::to_string(img.data().size()) + " bytes)";
+      if (out.image.empty()) fail(camera, why + bytes);
+      if (!why.empty()) fail(camera, "damaged JPEG: " + why.substr(why.find(": ") + 2) + bytes);
       if (out.image.cols != width || out.image.rows != height) {
         fail(camera, "JPEG decodes to " + size_text(out.image.cols, out.image.rows) + " but the response says " +
                          size_text(img.cols(), img.rows()));

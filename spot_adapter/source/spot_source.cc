@@ -31,6 +31,11 @@ constexpr auto kJointsStale = milliseconds(1000);
 constexpr auto kClockUpdateInterval = std::chrono::seconds(30);
 // How long a camera's last good image stands in for bad ones before it goes black.
 constexpr auto kHoldLastImage = milliseconds(1000);
+// Frame sets within this long of each other: the robot is connected, even if calls fail in
+// between (GetStatus then says degraded, with the failure rate).
+constexpr auto kConnectedWindow = milliseconds(1000);
+// The failure rate's memory: each call's outcome weighs 1/20 (about the last 20 calls).
+constexpr double kFailureRateWeight = 1.0 / 20;
 
 }  // namespace
 
@@ -128,6 +133,11 @@ std::shared_ptr<const PointCloud> SpotSource::next_cloud() {
   return cloud;
 }
 
+void SpotSource::count_outcome(bool failed) {
+  failure_rate_ += kFailureRateWeight * ((failed ? 1.0 : 0.0) - failure_rate_);
+  health_.failure_rate = failure_rate_;
+}
+
 SourceHealth SpotSource::health() const {
   std::lock_guard lock(mutex_);
   return health_;
@@ -219,6 +229,10 @@ void SpotSource::finish_call(ImageCall& call) {
   const std::vector<size_t>& wanted = call.wanted;
   ImageSet set = images_from_response(call.request, call.response, slots_, wanted);
   const auto arrival = Clock::now();
+  {
+    std::lock_guard lock(mutex_);
+    count_outcome(!set.problems.empty());  // a call that brought a bad image failed in part
+  }
   if (!set.problems.empty()) {
     {
       std::lock_guard lock(mutex_);
@@ -273,6 +287,7 @@ void SpotSource::finish_call(ImageCall& call) {
     frames->rig_version = rig_version_;
     ++health_.frames;
     health_.connected = true;
+    last_frame_ = arrival;
     if (set.problems.empty()) health_.message = connect_note_;
   }
   frames->images = std::move(set.images);
@@ -337,8 +352,11 @@ std::chrono::milliseconds SpotSource::on_error(const SpotError& e) {
   {
     std::lock_guard lock(mutex_);
     ++health_.errors;
+    count_outcome(true);
     changed = health_.message != message;
-    health_.connected = false;
+    // One failed call among good ones leaves the robot connected (degraded); a robot that
+    // stopped answering, or a session being repaired, is not.
+    health_.connected = session_.connected() && Clock::now() - last_frame_ < kConnectedWindow;
     health_.message = message;
   }
   if (changed || Clock::now() - last_error_log_ > kErrorLogInterval) {

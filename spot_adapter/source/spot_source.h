@@ -82,6 +82,13 @@ class SpotSource : public Source {
   std::map<std::string, FrameEdge> tree_;  // the frame tree the current rig was built from
   uint64_t sequence_ = 0;
   int failures_ = 0;  // in a row, for the backoff
+  // Each image call's outcome (failed: the call, or an image in it), averaged over the last
+  // ~20: the failure rate GetStatus shows. Under mutex_ (health_ reads it).
+  void count_outcome(bool failed);
+  double failure_rate_ = 0;
+  // The last frame set delivered: the robot counts as connected while they keep coming
+  // within kConnectedWindow, whatever fails in between (then "degraded", not "NO").
+  std::chrono::steady_clock::time_point last_frame_;
   std::chrono::steady_clock::time_point last_error_log_;
   std::chrono::steady_clock::time_point last_rig_change_;
   std::chrono::steady_clock::time_point last_channel_reset_;

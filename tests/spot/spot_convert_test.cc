@@ -174,6 +174,16 @@ TEST(ImageFromResponse, BadResponsesAreClearErrorsNamingTheCamera) {
   truncated.mutable_shot()->mutable_image()->mutable_data()->resize(120);
   EXPECT_NE(error_of([&] { decode_image_response(truncated, "left", 64, 48); }), "(no error)");
 
+  // Cut in the middle of its scan data: libjpeg decodes the top and fills the rest grey,
+  // with only a warning. That is an error too, never a picture with a grey patch.
+  cv::Mat noise(240, 320, CV_8UC1);
+  cv::randu(noise, 0, 256);
+  auto cut = response(noise, api::Image::FORMAT_JPEG, api::Image::PIXEL_FORMAT_GREYSCALE_U8);
+  cut.mutable_shot()->mutable_image()->mutable_data()->resize(cut.shot().image().data().size() * 2 / 3);
+  EXPECT_NE(error_of([&] { decode_image_response(cut, "left", 320, 240); }).find("camera 'left': damaged JPEG"),
+            std::string::npos)
+      << error_of([&] { decode_image_response(cut, "left", 320, 240); });
+
   auto garbage = response(grey, api::Image::FORMAT_JPEG, api::Image::PIXEL_FORMAT_GREYSCALE_U8);
   garbage.mutable_shot()->mutable_image()->set_data("not a jpeg at all");
   EXPECT_NE(error_of([&] { decode_image_response(garbage, "left", 64, 48); }).find("corrupt JPEG"), std::string::npos);

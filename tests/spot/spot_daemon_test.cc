@@ -588,6 +588,68 @@ TEST(SpotSource, BadImagesFailedCallsAndExpiredTokensAreSkippedAndCounted) {
   expect_no_secrets(daemon.log(), mock_password(dir));
 }
 
+// A camera image cut short decodes in part (libjpeg fills the rest grey, with a warning):
+// an error for that camera like one that does not decode at all, never a live frame with
+// a flat grey patch (issue 33). With every image damaged no live frame comes at all; the
+// client gets the last good picture again, marked stale.
+TEST(SpotSource, DamagedImagesNeverReachAViewAsLivePicture) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port);
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+  FrameReader reader(*stub, "front");
+  ASSERT_TRUE(eventually([&] { return reader.frames() >= 5; }, 15s)) << daemon.log();
+  mock_control(mock, "--set corrupt_probability=1");  // half cut to a third, half garbled
+  // Once the daemon has met a few damaged image sets, calls started before are answered:
+  // from then on nothing live may arrive.
+  const uint64_t errors = source_status(*stub).errors();
+  ASSERT_TRUE(eventually([&] { return source_status(*stub).errors() >= errors + 6; }, 10s)) << daemon.log();
+  const size_t live = reader.frames();
+  const uint64_t damaged = source_status(*stub).errors();
+  ASSERT_TRUE(eventually([&] { return source_status(*stub).errors() >= damaged + 30; }, 20s)) << daemon.log();
+  EXPECT_EQ(reader.frames(), live) << "live frames rendered from damaged images";
+  ASSERT_TRUE(eventually([&] { return !reader.stale_frames().empty(); }, 10s)) << daemon.log();
+  EXPECT_NE(source_status(*stub).message().find("JPEG"), std::string::npos) << source_status(*stub).message();
+}
+
+// Half the robot's calls fail, yet frames keep coming: the source is connected but
+// degraded, with its failure rate, rather than "not connected" (issue 33).
+TEST(SpotSource, StatusSaysDegradedWithTheFailureRateWhileFramesStillCome) {
+  TempDir dir;
+  const int port = free_port();
+  SpotMock mock(dir, port);
+  DaemonProcess daemon(dir, daemon_config(dir, port, SpotMock::credentials(dir)));
+  auto stub = make_stub(daemon.address());
+  FrameReader reader(*stub, "birdseye");
+  ASSERT_TRUE(eventually([&] { return reader.frames() >= 5; }, 15s)) << daemon.log();
+  v1::SourceStatus healthy = source_status(*stub);
+  EXPECT_TRUE(healthy.connected());
+  EXPECT_FALSE(healthy.degraded());
+  EXPECT_LT(healthy.failure_rate(), 0.1);
+
+  mock_control(mock, "--set fail_probability=0.5");
+  ASSERT_TRUE(eventually([&] { return source_status(*stub).degraded(); }, 20s)) << source_status(*stub).DebugString();
+  const size_t before = reader.frames();
+  // The rate averages ~20 calls, which come slower now (each failure backs off): it climbs
+  // towards one half while frames keep coming and the source stays connected.
+  int samples = 0, connected = 0;
+  ASSERT_TRUE(eventually(
+      [&] {
+        const v1::SourceStatus st = source_status(*stub);
+        ++samples;
+        connected += st.connected();
+        return st.failure_rate() >= 0.3 && reader.frames() >= before + 5;
+      },
+      30s))
+      << source_status(*stub).DebugString();
+  EXPECT_LT(source_status(*stub).failure_rate(), 0.85);
+  EXPECT_GE(connected, samples * 8 / 10) << "said not connected while frames were coming";
+
+  mock_control(mock, "--set fail_probability=0");
+  ASSERT_TRUE(eventually([&] { return !source_status(*stub).degraded(); }, 20s)) << source_status(*stub).DebugString();
+}
+
 // The robot moves while nobody watches: the joints the API reports follow it (a
 // robot-state read a second, no images), so `omniview joints` is never stale.
 TEST(SpotSource, JointsAreCurrentWithNobodyWatching) {

@@ -94,6 +94,74 @@ class BadInputTest(unittest.TestCase):
             await ws.close()
         asyncio.run(go())
 
+    def test_numbers_beyond_double_range_get_an_error_before_any_token(self):
+        # Once ended the daemon (an exception nlohmann throws as out_of_range, not parse_error),
+        # from a connection that had sent no token.
+        bad = ['{"op": 1e400}', '{"op": "auth", "id": -1e309}', '{"a": {"b": [1, 1e400]}}']
+        async def go():
+            for subprotocols in (["omniview.console.v1"], None):
+                ws = await websockets.connect(f"ws://{self.robot.web}/ws", subprotocols=subprotocols)
+                self.assertEqual(json.loads(await ws.recv())["auth"], "required")
+                for text in bad:
+                    await ws.send(text)
+                    r = await self.reply(ws)
+                    self.assertEqual(r["error"]["code"], "INVALID_ARGUMENT", text)
+                    self.assertIn("not a JSON object", r["error"]["message"], text)
+                await ws.send(json.dumps({"op": "auth", "id": 1, "token": VIEWER_TOKEN}))
+                self.assertIn("response", await self.reply(ws))  # the connection still works
+                await ws.close()
+            fox = await websockets.connect(f"ws://{self.robot.web}/?token={VIEWER_TOKEN}",
+                                           subprotocols=["foxglove.sdk.v1"], max_size=None)
+            for text in bad:
+                await fox.send(text)
+                while True:
+                    m = json.loads(await asyncio.wait_for(fox.recv(), seconds(10)))
+                    if m["op"] == "status":
+                        break
+                self.assertEqual(m["level"], 2)
+                self.assertIn("not a JSON object", m["message"])
+            await fox.close()
+        asyncio.run(go())
+
+    def test_every_token_a_request_carries_must_be_valid(self):
+        # A good header token beside a wrong ?token= is refused (401), as docs/API.md says.
+        async def go(path, headers):
+            ws = await websockets.connect(f"ws://{self.robot.web}{path}", subprotocols=["foxglove.sdk.v1"],
+                                          extra_headers=headers)
+            await ws.close()
+        with self.assertRaises(websockets.exceptions.InvalidStatusCode) as e:
+            asyncio.run(go("/?token=wrong", {"Authorization": f"Bearer {VIEWER_TOKEN}"}))
+        self.assertEqual(e.exception.status_code, 401)
+        with self.assertRaises(websockets.exceptions.InvalidStatusCode) as e:
+            asyncio.run(go(f"/?token={VIEWER_TOKEN}", {"Authorization": "Bearer wrong"}))
+        self.assertEqual(e.exception.status_code, 401)
+        asyncio.run(go(f"/?token={VIEWER_TOKEN}", {"Authorization": f"Bearer {OPERATOR_TOKEN}"}))  # both good
+        # A '+' not percent-encoded reads as a space: the refusal says how to write the token.
+        host, port = self.robot.web.rsplit(":", 1)
+        with socket.create_connection((host, int(port)), timeout=seconds(5)) as s:
+            s.sendall(b"GET /?token=ab+cd/e= HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                      b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+                      b"Sec-WebSocket-Protocol: foxglove.sdk.v1\r\n\r\n")
+            answer = b""
+            while b"%2B" not in answer:
+                chunk = s.recv(4096)
+                if not chunk:
+                    break
+                answer += chunk
+            self.assertTrue(answer.startswith(b"HTTP/1.1 401"), answer)
+            self.assertIn(b"percent-encode", answer)
+
+    def test_http11_needs_exactly_one_host(self):
+        host, port = self.robot.web.rsplit(":", 1)
+        for raw, status in ((b"GET / HTTP/1.1\r\n\r\n", b"400"),
+                            (b"GET / HTTP/1.1\r\nHost: a\r\nHost: b\r\n\r\n", b"400"),
+                            (b"GET / HTTP/1.0\r\n\r\n", b"200"),  # HTTP/1.0 has no Host rule
+                            (b"GET / HTTP/1.1\r\nHost: a\r\n\r\n", b"200")):
+            with socket.create_connection((host, int(port)), timeout=seconds(5)) as s:
+                s.sendall(raw)
+                answer = s.recv(64)
+                self.assertTrue(answer.split(b" ")[1] == status, (raw, answer))
+
     def test_oversized_messages_close_with_1009(self):
         async def go():
             for protocol, path in (("omniview.console.v1", "/ws"), ("foxglove.websocket.v1", "/")):

@@ -103,7 +103,7 @@ TEST(UpgradeRequest, SubprotocolsAndTokens) {
   auto u = parse_upgrade(upgrade_request("/ws", ""));
   EXPECT_EQ(u.protocol, WsProtocol::kConsole);
   EXPECT_EQ(u.answer, "");
-  EXPECT_FALSE(u.token);
+  EXPECT_TRUE(u.tokens.empty());
   u = parse_upgrade(upgrade_request("/", "x-other, foxglove.sdk.v1 ,foxglove.websocket.v1"));
   EXPECT_EQ(u.protocol, WsProtocol::kFoxglove);
   EXPECT_EQ(u.answer, "foxglove.sdk.v1");  // the first served one, as offered
@@ -112,11 +112,12 @@ TEST(UpgradeRequest, SubprotocolsAndTokens) {
   EXPECT_EQ(parse_upgrade(upgrade_request("/", "mqtt")).protocol, WsProtocol::kNone);
   u = parse_upgrade(upgrade_request("/?a=1&token=ab%2Bc%2F%3D&b", "omniview.console.v1"));
   EXPECT_EQ(u.protocol, WsProtocol::kConsole);
-  EXPECT_EQ(u.token, "ab+c/=");
+  EXPECT_EQ(u.tokens, std::vector<std::string>{"ab+c/="});
   u = parse_upgrade(upgrade_request("/?token=query", "", "Bearer header"));
-  EXPECT_EQ(u.token, "header");  // the header wins
+  // Both are checked (a wrong one is refused even beside a good one); the header's decides the caller.
+  EXPECT_EQ(u.tokens, (std::vector<std::string>{"header", "query"}));
   u = parse_upgrade(upgrade_request("/", "", "Basic dXNlcg=="));
-  EXPECT_EQ(u.token, "");  // malformed: refused as such, never "no token"
+  EXPECT_EQ(u.tokens, std::vector<std::string>{""});  // malformed: refused as such, never "no token"
   EXPECT_EQ(query_value("/?token", "token"), std::nullopt);
   EXPECT_EQ(query_value("/?token=", "token"), "");
 }

@@ -163,7 +163,12 @@ void ConsoleProtocol::call(const json::Value& message, std::optional<int64_t> id
   // Off the I/O thread: UpdateView returns only once the view's new map is built.
   boost::asio::post(context_.workers, [connection = connection_, calls = &context_.calls, in_flight = calls_in_flight_,
                                        method = *method, text, id] {
-    const auto result = calls->call(method, text);
+    ApiCalls::Result result;
+    try {  // call() turns errors into statuses; nothing may end the worker thread anyway
+      result = calls->call(method, text);
+    } catch (...) {
+      result.status = grpc::Status(grpc::StatusCode::INTERNAL, "internal error");
+    }
     --*in_flight;
     const auto c = connection.lock();
     if (!c) return;

@@ -3,6 +3,7 @@
 // reads raw bytes.
 #pragma once
 
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -68,6 +69,28 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
       return;
     }
     Request request = parser_->release();
+    // An exception out of the handling below is a bug: the client gets a 500, the daemon
+    // keeps serving everyone else.
+    try {
+      handle(std::move(request));
+    } catch (const std::exception& e) {
+      internal_error(e.what());
+    } catch (...) {
+      internal_error("an exception of unknown type");
+    }
+  }
+
+  void internal_error(const std::string& why) {
+    std::cerr << "omniviewd: web: " << peer_ << ": internal error: " << why << std::endl;
+    reply(http::status::internal_server_error, "internal server error\n", false);
+  }
+
+  void handle(Request request) {
+    // RFC 9112 3.2: an HTTP/1.1 request without exactly one Host header is a 400.
+    if (request.version() >= 11 && request.count(http::field::host) != 1) {
+      return reply(http::status::bad_request, "an HTTP/1.1 request needs exactly one Host header\n", false,
+                   request.version());
+    }
     if (beast::websocket::is_upgrade(request)) return upgrade(std::move(request));
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
       return reply(http::status::method_not_allowed, "only GET and HEAD are served here\n", request);

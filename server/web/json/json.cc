@@ -35,7 +35,9 @@ std::optional<Value> parse_object(std::string_view text, std::string* error) {
   Value value;
   try {
     value = Value::parse(text.begin(), text.end(), deepest);  // comments are errors too
-  } catch (const Value::parse_error& e) {
+  } catch (const Value::exception& e) {
+    // Every kind nlohmann throws while parsing, not only parse_error: a number beyond
+    // double's range ("1e400") is an out_of_range, and once ended the daemon (issue 33).
     return refuse(without_exception_tag(e.what()));
   }
   if (!value.is_object()) return refuse(std::string("the message is a JSON ") + value.type_name());

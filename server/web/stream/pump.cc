@@ -1,5 +1,7 @@
 #include "server/web/stream/pump.h"
 
+#include <iostream>
+
 namespace omniview::web {
 
 namespace {
@@ -10,7 +12,17 @@ Pump::Pump(std::weak_ptr<Connection> connection, uint32_t channel, Source source
   core_->connection = std::move(connection);
   core_->channel = channel;
   core_->source = std::move(source);
-  thread_ = std::thread([core = core_] { run(core); });
+  thread_ = std::thread([core = core_] {
+    // An exception here (a message that could not be made) ends this client's connection,
+    // never the daemon.
+    try {
+      run(core);
+    } catch (const std::exception& e) {
+      fail(core, e.what());
+    } catch (...) {
+      fail(core, "an exception of unknown type");
+    }
+  });
 }
 
 Pump::~Pump() { stop(); }
@@ -30,6 +42,14 @@ void Pump::stop() {
       thread_.join();
     }
   }
+}
+
+void Pump::fail(const std::shared_ptr<Core>& core, const std::string& why) {
+  const auto connection = core->connection.lock();
+  if (!connection) return;
+  std::cerr << "omniviewd: web: " << connection->peer() << ": internal error on channel " << core->channel << ": "
+            << why << ": connection closed" << std::endl;
+  connection->close(1011, "internal server error");
 }
 
 void Pump::run(const std::shared_ptr<Core>& core) {

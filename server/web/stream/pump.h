@@ -58,6 +58,7 @@ class Pump {
     bool stop = false;
   };
   static void run(const std::shared_ptr<Core>& core);
+  static void fail(const std::shared_ptr<Core>& core, const std::string& why);  // closes with 1011
 
   std::shared_ptr<Core> core_ = std::make_shared<Core>();
   std::thread thread_;

@@ -70,11 +70,10 @@ UpgradeRequest parse_upgrade(const http::request<http::string_body>& request) {
   }
   if (const auto auth = request.find(http::field::authorization); auth != request.end()) {
     const auto value = auth->value();
-    if (const auto token = bearer_token(std::string_view(value.data(), value.size()))) up.token = std::string(*token);
-    else up.token = "";  // malformed: refused as such, never treated as "no token"
-  } else {
-    up.token = query_value(std::string(request.target()), "token");
+    const auto token = bearer_token(std::string_view(value.data(), value.size()));
+    up.tokens.push_back(token ? std::string(*token) : "");  // malformed: refused as such, never "no token"
   }
+  if (auto token = query_value(std::string(request.target()), "token")) up.tokens.push_back(std::move(*token));
   return up;
 }
 

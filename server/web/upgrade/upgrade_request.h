@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <boost/beast/http.hpp>
 
@@ -16,7 +17,10 @@ struct UpgradeRequest {
   WsProtocol protocol = WsProtocol::kNone;
   std::string answer;   // the subprotocol to answer with: the client's own spelling; "" if none offered
   std::string offered;  // what the client offered, for messages
-  std::optional<std::string> token;
+  // Every token the request carries: the Authorization header's, then the query's. Each must
+  // be valid (a wrong one is a 401 even beside a good one: never silently ignored); the
+  // first decides the caller. A malformed header counts as a token "" (refused as such).
+  std::vector<std::string> tokens;
 };
 
 // No subprotocol offered means the console. Of several, the first one served here wins.

@@ -92,7 +92,7 @@ class WsSession : public Connection, public std::enable_shared_from_this<WsSessi
       if (self->finished_) return;
       auto timer = std::make_shared<net::steady_timer>(self->ws_.get_executor(), delay);
       timer->async_wait([self, timer, task = std::move(task)](beast::error_code ec) {
-        if (!ec && !self->finished_) task();
+        if (!ec && !self->finished_) self->guarded(task);
       });
     });
   }
@@ -102,9 +102,32 @@ class WsSession : public Connection, public std::enable_shared_from_this<WsSessi
  private:
   void on_accept(beast::error_code ec) {
     if (ec) return finish();
-    protocol_ = make_(this->shared_from_this());
-    protocol_->on_open();
+    if (!guarded([this] {
+          protocol_ = make_(this->shared_from_this());
+          protocol_->on_open();
+        })) {
+      return;
+    }
     read_next();
+  }
+
+  // Runs a protocol's handler. Protocols answer bad input themselves (a status message, an
+  // error reply); an exception that still escapes one is a bug, and ends this client's
+  // connection with 1011 ("internal error"), logged, never the daemon. True if none escaped.
+  template <class Handler>
+  bool guarded(Handler&& handler) {
+    std::string why;
+    try {
+      handler();
+      return true;
+    } catch (const std::exception& e) {
+      why = e.what();
+    } catch (...) {
+      why = "an exception of unknown type";
+    }
+    std::cerr << "omniviewd: web: " << peer_ << ": internal error: " << why << ": connection closed" << std::endl;
+    begin_close(1011, "internal server error");
+    return false;
   }
 
   void read_next() {
@@ -118,9 +141,10 @@ class WsSession : public Connection, public std::enable_shared_from_this<WsSessi
     }
     if (ec) return finish();
     const auto data = buffer_.cdata();
-    protocol_->on_message(std::string_view(static_cast<const char*>(data.data()), data.size()), !ws_.got_text());
+    const std::string_view message(static_cast<const char*>(data.data()), data.size());
+    const bool handled = guarded([&] { protocol_->on_message(message, !ws_.got_text()); });
     buffer_.consume(buffer_.size());
-    if (!finished_) read_next();
+    if (handled && !finished_) read_next();
   }
 
   void write_next() {
