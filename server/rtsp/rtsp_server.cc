@@ -76,7 +76,8 @@ struct MountContext {
 };
 
 // What the daemon keeps about one open connection (the client object's data): its slot
-// under the connection caps, and since when it has had no stream playing.
+// under the connection caps, and since when it has had no stream playing. Only the
+// server's thread touches it (clients are served there).
 struct ClientState {
   std::unique_ptr<ConnectionLimits::Slot> slot;
   std::chrono::steady_clock::time_point idle_since = std::chrono::steady_clock::now();

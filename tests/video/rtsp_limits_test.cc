@@ -16,6 +16,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <iostream>
 #include <optional>
 #include <regex>
 #include <thread>
@@ -250,6 +251,8 @@ TEST(RtspLimits, RtspsConnectionsLeaveNothingBehindUnderTheDefaultFileLimit) {
   }
   EXPECT_TRUE(eventually([&] { return std::abs(open_files(pid) - files_at_start) <= 5; }, 10s))
       << open_files(pid) << " files open, " << files_at_start << " at the start";
+  std::cout << "files " << files_at_start << " -> " << open_files(pid) << ", RSS " << daemon->rss_kb() / 1024 << " MB"
+            << std::endl;
   ASSERT_EQ(kill(pid, 0), 0) << daemon->log();
   const auto r = run_process("timeout 15 ffprobe -v error -show_entries stream=codec_name,width,height -of csv=p=0 "
                              "'rtsps://omniview:" + viewer + "@127.0.0.1:" + std::to_string(port) + "/front' 2>&1");
@@ -279,6 +282,8 @@ TEST(RtspLimits, FloodsOfParallelDescribesAreCappedAndGiveTheirMemoryBack) {
       << "RSS " << daemon.rss_kb() / 1024 << " MB, " << rss_at_start / 1024 << " MB at the start";
   EXPECT_TRUE(eventually([&] { return threads(pid) - threads_at_start <= 16; }, 15s))
       << threads(pid) << " threads, " << threads_at_start << " at the start";
+  std::cout << "RSS " << rss_at_start / 1024 << " -> " << daemon.rss_kb() / 1024 << " MB, threads " << threads_at_start
+            << " -> " << threads(pid) << std::endl;
   RtspConnection after(port);
   EXPECT_EQ(status_of(after.request("DESCRIBE")), 200) << "the daemon serves no more";
 }
