@@ -40,10 +40,13 @@ timing_bound="Recording.AClientFarBehindSkipsAndSaysHowMany"
 # over JPEG is timed; a sequence gap is taken for a frame the client missed, where under a
 # sanitizer's slowdown the pipeline itself skips renders).
 timing_bound+="|H264Stream.AddsLessThanAFrameIntervalOfLatencyOverJpeg|H264Stream.AStalledClientResumesAtAKeyFrame"
+# A flood's memory coming back (RSS within 300 MB): ASan's quarantine keeps freed memory
+# (256 MB) and its shadow grows with every allocation, so only a release build measures it.
+timing_bound+="|RtspLimits.FloodsOfParallelDescribesAreCappedAndGiveTheirMemoryBack"
 # Found under ThreadSanitizer and not yet resolved (runs in the release and ASan trees):
 # RTSPS's handshake races inside Debian's uninstrumented libgnutls. Next step: a module
 # suppression checked against a gnutls built with TSan.
-tsan_pending="Rtsp.WithTlsItSpeaksRtspsOnAnAddressOthersReach"
+tsan_pending="Rtsp.WithTlsItSpeaksRtspsOnAnAddressOthersReach|RtspLimits.RtspsConnectionsLeaveNothingBehindUnderTheDefaultFileLimit"
 # The exposure tests start ~110 daemons to judge listen addresses: a single-threaded check
 # at start-up, nothing for ThreadSanitizer to see: built here (CTest wants every server
 # test program), run in the ASan tree.

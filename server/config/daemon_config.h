@@ -102,6 +102,13 @@ struct RtspConfig {
   int quality = 0;                         // as StreamFramesRequest.quality for H264 (0: default)
   int max_bitrate_kbps = 0;                // as StreamFramesRequest.max_bitrate_kbps (0: none)
   double max_rate_hz = 0;                  // 0: as the source delivers (within limits.max_rate_hz)
+  // Connections at once, in all and from one client address: each may hold a prepared
+  // media (a GStreamer pipeline and its threads), so the excess is closed at accept.
+  int max_connections = 32;
+  int max_connections_per_client = 8;
+  // A connection that has no stream playing (never authenticated, DESCRIBE only, paused)
+  // is closed after this many seconds, so that it cannot hold its slot.
+  int idle_timeout_s = 20;
 };
 
 struct DaemonConfig {

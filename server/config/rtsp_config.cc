@@ -5,11 +5,27 @@
 #include "server/exposure/host_port.h"
 
 namespace omniview::config_parts {
+namespace {
+
+// Each connection may hold a media (a pipeline, its threads and ~10 files): the ceiling
+// keeps the daemon within the systemd unit's LimitNOFILE (packaging/omniviewd.service.in).
+constexpr int kMaxRtspConnectionsCeiling = 256;
+
+int rtsp_int_in(const YamlReader& r, const YAML::Node& n, const std::string& path, int lo, int hi) {
+  const auto v = r.integer(n, path);
+  if (v < lo || v > hi) {
+    r.fail(n, path, "must be from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got " + std::to_string(v));
+  }
+  return static_cast<int>(v);
+}
+
+}  // namespace
 
 RtspConfig parse_rtsp(const YamlReader& r, const YAML::Node& n, const Limits& limits) {
   RtspConfig rtsp;
   if (!n.IsMap()) r.fail(n, "rtsp", "expected a map: {listen: 127.0.0.1:8554} (other keys optional)");
-  r.expect_keys(n, "rtsp", {"listen", "quality", "max_bitrate_kbps", "max_rate_hz"});
+  r.expect_keys(n, "rtsp", {"listen", "quality", "max_bitrate_kbps", "max_rate_hz", "max_connections",
+                           "max_connections_per_client", "idle_timeout_s"});
   if (n["listen"]) {
     rtsp.listen = r.text(n["listen"], "rtsp.listen");
     const auto hp = split_host_port(rtsp.listen);
@@ -41,6 +57,20 @@ RtspConfig parse_rtsp(const YamlReader& r, const YAML::Node& n, const Limits& li
              "must be 0..limits.max_rate_hz (" + std::to_string(limits.max_rate_hz) + "; 0: as the source delivers)");
     }
   }
+  if (n["max_connections"]) {
+    rtsp.max_connections = rtsp_int_in(r, n["max_connections"], "rtsp.max_connections", 1, kMaxRtspConnectionsCeiling);
+  }
+  if (n["max_connections_per_client"]) {
+    rtsp.max_connections_per_client =
+        rtsp_int_in(r, n["max_connections_per_client"], "rtsp.max_connections_per_client", 1, kMaxRtspConnectionsCeiling);
+  }
+  if (rtsp.max_connections_per_client > rtsp.max_connections) {
+    const YAML::Node at = n["max_connections_per_client"] ? n["max_connections_per_client"] : n;
+    r.fail(at, "rtsp.max_connections_per_client",
+           std::to_string(rtsp.max_connections_per_client) + " is more than rtsp.max_connections (" +
+               std::to_string(rtsp.max_connections) + ")");
+  }
+  if (n["idle_timeout_s"]) rtsp.idle_timeout_s = rtsp_int_in(r, n["idle_timeout_s"], "rtsp.idle_timeout_s", 1, 3600);
   return rtsp;
 }
 

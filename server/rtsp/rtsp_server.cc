@@ -3,6 +3,7 @@
 #include <gst/rtsp-server/rtsp-server.h>
 #include <pthread.h>
 
+#include <chrono>
 #include <iostream>
 #include <map>
 #include <mutex>
@@ -10,8 +11,11 @@
 #include <stdexcept>
 #include <thread>
 
+#include "server/auth/refusal_log.h"
 #include "server/exposure/host_port.h"
 #include "server/pipeline/frame_encoder.h"
+#include "server/rtsp/connection_limits.h"
+#include "server/rtsp/rtsp_auth.h"
 #include "server/rtsp/rtsp_feed.h"
 
 namespace omniview {
@@ -21,6 +25,7 @@ namespace {
 constexpr const char* kUser = "omniview";
 constexpr const char* kRole = "viewer";
 constexpr guint kMountSyncMs = 500;  // views created or deleted through the API show up this fast
+constexpr guint kIdleSweepMs = 1000;  // how often idle connections are looked for
 
 // appsrc's caps say what we push: Annex-B access units. h264parse puts SPS/PPS into the
 // caps for the SDP; rtph264pay sends them again before every IDR (config-interval -1).
@@ -70,9 +75,22 @@ struct MountContext {
   double rate_hz;
 };
 
+// What the daemon keeps about one open connection (the client object's data): its slot
+// under the connection caps, and since when it has had no stream playing. Only the
+// server's thread touches it (clients are served there).
+struct ClientState {
+  std::unique_ptr<ConnectionLimits::Slot> slot;
+  std::chrono::steady_clock::time_point idle_since = std::chrono::steady_clock::now();
+  bool played = false;  // a PLAY of its own answered 200 (not a session id it merely named)
+  std::set<std::string> own_sessions;  // ids of the sessions its SETUPs made
+};
+
 struct RtspServer::Impl {
   Pipeline& pipeline;
   RtspConfig config;
+  std::shared_ptr<ConnectionLimits> limits;
+  std::unique_ptr<ConnectionLimits::Slot> admitted;  // the slot of the connection being accepted
+  RefusalLog refusals;
   EncodingKey key;
   double rate_hz = 0;
   std::string scheme = "rtsp";
@@ -92,6 +110,10 @@ struct RtspServer::Impl {
 
   void mount(const std::string& view);
   void sync_mounts();
+  bool admit(GstRTSPContext* ctx);
+  void connected(GstRTSPClient* client);
+  void unauthorized(GstRTSPContext* ctx);
+  void close_idle_clients();
 };
 
 namespace {
@@ -117,7 +139,113 @@ void on_media_configure(GstRTSPMediaFactory*, GstRTSPMedia* media, gpointer data
   gst_object_unref(appsrc);
 }
 
+std::string peer_ip(GstRTSPConnection* conn) {
+  const gchar* ip = conn != nullptr ? gst_rtsp_connection_get_ip(conn) : nullptr;
+  return ip != nullptr ? ip : "unknown";
+}
+
+void destroy_client_state(gpointer state) { delete static_cast<ClientState*>(state); }
+
+ClientState* client_state(GstRTSPClient* client) {
+  return static_cast<ClientState*>(g_object_get_data(G_OBJECT(client), "omniview-state"));
+}
+
+void on_play_request(GstRTSPClient* client, GstRTSPContext*, gpointer) {
+  if (ClientState* state = client_state(client)) state->played = true;
+}
+
+void on_new_session(GstRTSPClient* client, GstRTSPSession* session, gpointer) {
+  if (ClientState* state = client_state(client)) state->own_sessions.insert(gst_rtsp_session_get_sessionid(session));
+}
+
+GstRTSPFilterResult find_playing_media(GstRTSPSession*, GstRTSPSessionMedia* media, gpointer playing) {
+  if (gst_rtsp_session_media_get_rtsp_state(media) == GST_RTSP_STATE_PLAYING) *static_cast<bool*>(playing) = true;
+  return GST_RTSP_FILTER_KEEP;
+}
+
+GstRTSPFilterResult find_playing_session(GstRTSPClient*, GstRTSPSession* session, gpointer playing) {
+  gst_rtsp_session_filter(session, find_playing_media, playing);
+  return GST_RTSP_FILTER_KEEP;
+}
+
 }  // namespace
+
+// Runs on the server's thread, for each new TCP connection, before the library makes a
+// client of it: refused, the connection is closed at once (no RTSP reply: there is no
+// request yet to answer).
+bool RtspServer::Impl::admit(GstRTSPContext* ctx) {
+  const std::string host = peer_ip(ctx->conn);
+  std::string why;
+  admitted = limits->acquire(host, &why);
+  if (admitted) return true;
+  if (const auto left_out = refusals.admit(host)) {
+    std::cerr << "omniviewd: rtsp: refused a connection from " << host << ": " << why
+              << (*left_out ? " (and " + std::to_string(*left_out) + " more refusals from this host not logged)" : "")
+              << std::endl;
+  }
+  return false;
+}
+
+// A connection accepted (after admit said yes): it takes the slot admit reserved, freed
+// with the client object.
+void RtspServer::Impl::connected(GstRTSPClient* client) {
+  g_object_set_data_full(G_OBJECT(client), "omniview-state", new ClientState{std::move(admitted)},
+                         destroy_client_state);
+  g_signal_connect(client, "play-request", G_CALLBACK(on_play_request), nullptr);
+  g_signal_connect(client, "new-session", G_CALLBACK(on_new_session), nullptr);
+}
+
+// A request answered 401. The library looks its session id up before any check and ties
+// the session to the connection, which would stop the session's streams when that
+// connection closes: a session this connection did not make is untied again. Then the
+// log, rate-limited per host like the gRPC port's refusals; the path only (the request
+// line carries no credentials, the Authorization header is never logged).
+void RtspServer::Impl::unauthorized(GstRTSPContext* ctx) {
+  if (ctx->session != nullptr && ctx->client != nullptr) {
+    const ClientState* state = client_state(ctx->client);
+    if (state == nullptr || !state->own_sessions.count(gst_rtsp_session_get_sessionid(ctx->session))) {
+      gst_rtsp_client_session_filter(
+          ctx->client,
+          [](GstRTSPClient*, GstRTSPSession* session, gpointer named) {
+            return session == named ? GST_RTSP_FILTER_REMOVE : GST_RTSP_FILTER_KEEP;
+          },
+          ctx->session);
+    }
+  }
+  const std::string host = peer_ip(ctx->conn);
+  const auto left_out = refusals.admit(host);
+  if (!left_out) return;
+  GstRTSPMethod method = GST_RTSP_INVALID;
+  const gchar* uri = nullptr;
+  if (ctx->request != nullptr) gst_rtsp_message_parse_request(ctx->request, &method, &uri, nullptr);
+  const gchar* path = ctx->uri != nullptr && ctx->uri->abspath != nullptr ? ctx->uri->abspath : "?";
+  gchar* credentials = nullptr;
+  const bool sent = ctx->request != nullptr &&
+                    gst_rtsp_message_get_header(ctx->request, GST_RTSP_HDR_AUTHORIZATION, &credentials, 0) == GST_RTSP_OK;
+  std::cerr << "omniviewd: rtsp: refused " << gst_rtsp_method_as_text(method) << " " << path << " from " << host
+            << ": " << (sent ? "wrong credentials" : "no credentials") << " (401)"
+            << (*left_out ? " (and " + std::to_string(*left_out) + " more refusals from this host not logged)" : "")
+            << std::endl;
+}
+
+// A connection with nothing playing for rtsp.idle_timeout_s is closed: one that never
+// authenticates, stops after DESCRIBE, or stays paused gives its slot back.
+void RtspServer::Impl::close_idle_clients() {
+  gst_rtsp_server_client_filter(
+      server,
+      [](GstRTSPServer*, GstRTSPClient* client, gpointer data) {
+        const auto& m = *static_cast<const Impl*>(data);
+        ClientState* state = client_state(client);
+        if (state == nullptr) return GST_RTSP_FILTER_KEEP;
+        bool playing = false;
+        if (state->played) gst_rtsp_client_session_filter(client, find_playing_session, &playing);
+        const auto now = std::chrono::steady_clock::now();
+        if (playing) state->idle_since = now;
+        return now - state->idle_since > std::chrono::seconds(m.config.idle_timeout_s) ? GST_RTSP_FILTER_REMOVE
+                                                                                       : GST_RTSP_FILTER_KEEP;
+      },
+      this);
+}
 
 void RtspServer::Impl::mount(const std::string& view) {
   GstRTSPMediaFactory* factory = gst_rtsp_media_factory_new();
@@ -128,10 +256,8 @@ void RtspServer::Impl::mount(const std::string& view) {
   g_signal_connect_data(
       factory, "media-configure", G_CALLBACK(on_media_configure), ctx,
       [](gpointer data, GClosure*) { delete static_cast<MountContext*>(data); }, GConnectFlags(0));
-  if (auth != nullptr) {
-    gst_rtsp_media_factory_add_role(factory, kRole, GST_RTSP_PERM_MEDIA_FACTORY_ACCESS, G_TYPE_BOOLEAN, TRUE,
-                                    GST_RTSP_PERM_MEDIA_FACTORY_CONSTRUCT, G_TYPE_BOOLEAN, TRUE, nullptr);
-  }
+  gst_rtsp_media_factory_add_role(factory, kRole, GST_RTSP_PERM_MEDIA_FACTORY_ACCESS, G_TYPE_BOOLEAN, TRUE,
+                                  GST_RTSP_PERM_MEDIA_FACTORY_CONSTRUCT, G_TYPE_BOOLEAN, TRUE, nullptr);
   gst_rtsp_mount_points_add_factory(mounts, ("/" + view).c_str(), factory);  // takes the factory
 }
 
@@ -168,49 +294,63 @@ RtspServer::RtspServer(const DaemonConfig& config, Pipeline& pipeline) : impl_(s
   GstRTSPSessionPool* pool = gst_rtsp_server_get_session_pool(m.server);
   gst_rtsp_session_pool_set_max_sessions(pool, static_cast<guint>(config.limits.max_streams));
   g_object_unref(pool);
+  // Clients are served on the server's own thread, not on the library's client threads:
+  // such a thread stops when its last client leaves, and a TLS handshake's completion
+  // queued on its GMainContext (GTlsConnection runs the handshake as a GTask that returns
+  // there) then never runs, so each RTSPS connection's TLS stream, socket and GnuTLS
+  // session were kept for good (a socket in CLOSE-WAIT and ~3.7 MB per connection). The
+  // library's default is one such thread for all clients anyway.
+  GstRTSPThreadPool* threads = gst_rtsp_server_get_thread_pool(m.server);
+  gst_rtsp_thread_pool_set_max_threads(threads, 0);
+  g_object_unref(threads);
+  m.limits = std::make_shared<ConnectionLimits>(m.config.max_connections, m.config.max_connections_per_client);
+  g_signal_connect(m.server, "client-connected", G_CALLBACK(+[](GstRTSPServer*, GstRTSPClient* client, gpointer data) {
+                     static_cast<Impl*>(data)->connected(client);
+                   }),
+                   &m);
 
   // Who may watch: the API's tokens (either role) as the basic-auth password; without
-  // tokens, everybody. TLS (RTSPS) with the API's certificate.
-  if (!config.tokens.empty() || config.tls) {
-    m.auth = gst_rtsp_auth_new();
-    for (const auto& t : config.tokens) {
-      gchar* basic = gst_rtsp_auth_make_basic(kUser, t.token.c_str());
-      GstRTSPToken* token = gst_rtsp_token_new(GST_RTSP_TOKEN_MEDIA_FACTORY_ROLE, G_TYPE_STRING, kRole, nullptr);
-      gst_rtsp_auth_add_basic(m.auth, basic, token);
-      gst_rtsp_token_unref(token);
-      g_free(basic);
+  // tokens, everybody. TLS (RTSPS) with the API's certificate. Every request is checked
+  // (rtsp_auth.h), and every new connection against the caps.
+  m.auth = make_rtsp_auth({[&m](GstRTSPContext* ctx) { return m.admit(ctx); },
+                           [&m](GstRTSPContext* ctx) { m.unauthorized(ctx); }});
+  for (const auto& t : config.tokens) {
+    gchar* basic = gst_rtsp_auth_make_basic(kUser, t.token.c_str());
+    GstRTSPToken* token = gst_rtsp_token_new(GST_RTSP_TOKEN_MEDIA_FACTORY_ROLE, G_TYPE_STRING, kRole, nullptr);
+    gst_rtsp_auth_add_basic(m.auth, basic, token);
+    gst_rtsp_token_unref(token);
+    g_free(basic);
+  }
+  if (config.tokens.empty()) {
+    GstRTSPToken* anyone = gst_rtsp_token_new(GST_RTSP_TOKEN_MEDIA_FACTORY_ROLE, G_TYPE_STRING, kRole, nullptr);
+    gst_rtsp_auth_set_default_token(m.auth, anyone);
+    gst_rtsp_token_unref(anyone);
+  }
+  if (config.tls) {
+    GError* e = nullptr;
+    GTlsCertificate* cert =
+        g_tls_certificate_new_from_files(config.tls->cert_file.c_str(), config.tls->key_file.c_str(), &e);
+    if (cert == nullptr) {
+      const std::string why = e ? e->message : "unknown error";
+      if (e) g_error_free(e);
+      throw std::runtime_error("rtsp: cannot load the TLS certificate: " + why);
     }
-    if (config.tokens.empty()) {
-      GstRTSPToken* anyone = gst_rtsp_token_new(GST_RTSP_TOKEN_MEDIA_FACTORY_ROLE, G_TYPE_STRING, kRole, nullptr);
-      gst_rtsp_auth_set_default_token(m.auth, anyone);
-      gst_rtsp_token_unref(anyone);
-    }
-    if (config.tls) {
-      GError* e = nullptr;
-      GTlsCertificate* cert =
-          g_tls_certificate_new_from_files(config.tls->cert_file.c_str(), config.tls->key_file.c_str(), &e);
-      if (cert == nullptr) {
+    gst_rtsp_auth_set_tls_certificate(m.auth, cert);
+    g_object_unref(cert);
+    if (!config.tls->client_ca_file.empty()) {
+      GTlsDatabase* db = g_tls_file_database_new(config.tls->client_ca_file.c_str(), &e);
+      if (db == nullptr) {
         const std::string why = e ? e->message : "unknown error";
         if (e) g_error_free(e);
-        throw std::runtime_error("rtsp: cannot load the TLS certificate: " + why);
+        throw std::runtime_error("rtsp: cannot load tls.client_ca: " + why);
       }
-      gst_rtsp_auth_set_tls_certificate(m.auth, cert);
-      g_object_unref(cert);
-      if (!config.tls->client_ca_file.empty()) {
-        GTlsDatabase* db = g_tls_file_database_new(config.tls->client_ca_file.c_str(), &e);
-        if (db == nullptr) {
-          const std::string why = e ? e->message : "unknown error";
-          if (e) g_error_free(e);
-          throw std::runtime_error("rtsp: cannot load tls.client_ca: " + why);
-        }
-        gst_rtsp_auth_set_tls_database(m.auth, db);
-        gst_rtsp_auth_set_tls_authentication_mode(m.auth, G_TLS_AUTHENTICATION_REQUIRED);
-        g_object_unref(db);
-      }
-      m.scheme = "rtsps";
+      gst_rtsp_auth_set_tls_database(m.auth, db);
+      gst_rtsp_auth_set_tls_authentication_mode(m.auth, G_TLS_AUTHENTICATION_REQUIRED);
+      g_object_unref(db);
     }
-    gst_rtsp_server_set_auth(m.server, m.auth);
+    m.scheme = "rtsps";
   }
+  gst_rtsp_server_set_auth(m.server, m.auth);
 
   m.mounts = gst_rtsp_server_get_mount_points(m.server);
   m.sync_mounts();
@@ -233,6 +373,16 @@ RtspServer::RtspServer(const DaemonConfig& config, Pipeline& pipeline) : impl_(s
       &m, nullptr);
   g_source_attach(timer, m.context);
   g_source_unref(timer);
+  GSource* sweep = g_timeout_source_new(kIdleSweepMs);
+  g_source_set_callback(
+      sweep,
+      [](gpointer data) -> gboolean {
+        static_cast<Impl*>(data)->close_idle_clients();
+        return G_SOURCE_CONTINUE;
+      },
+      &m, nullptr);
+  g_source_attach(sweep, m.context);
+  g_source_unref(sweep);
   m.thread = std::thread([&m] {
     pthread_setname_np(pthread_self(), "rtsp");
     g_main_context_push_thread_default(m.context);

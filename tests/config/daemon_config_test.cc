@@ -66,6 +66,20 @@ TEST(DaemonConfig, RtspIsOffUnlessConfiguredAndItsKeysAreChecked) {
                {"d.yaml:3", "rtsp.max_bitrate_kbps", "50..100000"});
   expect_error(std::string(kSources) + "rtsp: {max_rate_hz: -1}\n", {"d.yaml:3", "rtsp.max_rate_hz"});
   expect_error(std::string(kSources) + "rtsp: {port: 8554}\n", {"d.yaml:3", "port"});
+  // The connection caps and the idle timeout: defaults, and bounds with the key in the error.
+  EXPECT_EQ(config.rtsp->max_connections, 32);
+  EXPECT_EQ(config.rtsp->max_connections_per_client, 8);
+  EXPECT_EQ(config.rtsp->idle_timeout_s, 20);
+  const auto capped = parse(std::string(kSources) +
+                            "rtsp: {max_connections: 100, max_connections_per_client: 100, idle_timeout_s: 5}\n");
+  EXPECT_EQ(capped.rtsp->max_connections, 100);
+  EXPECT_EQ(capped.rtsp->max_connections_per_client, 100);
+  EXPECT_EQ(capped.rtsp->idle_timeout_s, 5);
+  expect_error(std::string(kSources) + "rtsp: {max_connections: 0}\n", {"d.yaml:3", "rtsp.max_connections", "1 to 256"});
+  expect_error(std::string(kSources) + "rtsp: {max_connections: 5000}\n", {"d.yaml:3", "rtsp.max_connections"});
+  expect_error(std::string(kSources) + "rtsp: {max_connections: 4}\n",
+               {"d.yaml:3", "rtsp.max_connections_per_client", "more than rtsp.max_connections (4)"});
+  expect_error(std::string(kSources) + "rtsp: {idle_timeout_s: 0}\n", {"d.yaml:3", "rtsp.idle_timeout_s", "1 to 3600"});
   expect_error(std::string(kSources) + "rtsp: yes\n", {"d.yaml:3", "rtsp"});
   // The exposure rule, as for `listen`: others can reach it, and nothing guards it.
   expect_error(std::string(kSources) + "rtsp: {listen: 0.0.0.0:8554}\n",
