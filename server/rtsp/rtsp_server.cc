@@ -291,6 +291,9 @@ RtspServer::RtspServer(const DaemonConfig& config, Pipeline& pipeline) : impl_(s
   m.server = gst_rtsp_server_new();
   gst_rtsp_server_set_address(m.server, hp->host.c_str());
   gst_rtsp_server_set_service(m.server, hp->port.c_str());
+  // The library's listen queue is 5 deep: a burst of players (or a scan) beyond it waits a
+  // whole SYN retry (1 s) per connection. The caps below, not the queue, bound clients.
+  gst_rtsp_server_set_backlog(m.server, 128);
   GstRTSPSessionPool* pool = gst_rtsp_server_get_session_pool(m.server);
   gst_rtsp_session_pool_set_max_sessions(pool, static_cast<guint>(config.limits.max_streams));
   g_object_unref(pool);

@@ -233,8 +233,8 @@ TEST(RtspLimits, RtspsConnectionsLeaveNothingBehindUnderTheDefaultFileLimit) {
   const int files_at_start = open_files(pid);
   // More connections than the daemon may have files: each connects and closes at once (no
   // TLS handshake, no request), as a port scanner or a broken client would. Paced by the
-  // listen queue (the library's is 5 deep): an attempt not accepted within 300 ms is
-  // dropped and made again, instead of waiting for the kernel's 1 s SYN retry.
+  // listen queue: an attempt not accepted within 300 ms is dropped and made again, instead
+  // of waiting for the kernel's 1 s SYN retry.
   const auto deadline = Clock::now() + 120s;
   for (int connected = 0; connected < 1100;) {
     ASSERT_LT(Clock::now(), deadline) << connected << " connections made\n" << daemon->log();
