@@ -387,7 +387,7 @@ TEST_F(ViewsApi, StatusReportsSourcesViewsAndClients) {
   EXPECT_EQ(st.sources(0).type(), "images");
   EXPECT_TRUE(st.sources(0).connected());
   EXPECT_NEAR(st.sources(0).rate_hz(), 30, 10);
-  EXPECT_LT(st.sources(0).last_frame_age_s(), 1);
+  EXPECT_LT(st.sources(0).last_frame_age_s(), 1 * test_time_scale());  // 30 Hz: a sanitizer may stretch it
   ASSERT_EQ(st.views_size(), 2);
   for (const auto& v : st.views()) {
     if (v.name() == "front") {
@@ -401,7 +401,7 @@ TEST_F(ViewsApi, StatusReportsSourcesViewsAndClients) {
   }
   ASSERT_EQ(st.clients_size(), 1);
   EXPECT_EQ(st.clients(0).view(), "front");
-  EXPECT_GE(st.clients(0).frames_sent(), 9u);
+  EXPECT_GE(st.clients(0).frames_sent(), 10u);  // counted when handed over, before it is read
   ctx->TryCancel();
   reader->Finish();
 }

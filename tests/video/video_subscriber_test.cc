@@ -67,6 +67,9 @@ TEST(VideoSubscriber, StartsAtAKeyFrameAndSkipsToTheNextAfterAMissedFrame) {
   EXPECT_TRUE((*got)->key_frame());
 }
 
+// The rate the view's frames come at, as LiveView's statistics measure it.
+constexpr double kViewFps = 15;
+
 // After a view update no frame of the old revision reaches the client, wherever it is: in
 // the slot, offered later (an encode in flight), or taken and about to be sent.
 TEST(Subscriber, AFrameOfAnOlderRevisionIsRefusedOnceTheUpdateRaisedTheFloor) {
@@ -142,9 +145,6 @@ TEST(VideoSubscriber, AfterAViewChangeTheStreamResumesAtAKeyFrameOfTheNewRevisio
   EXPECT_EQ((*got)->sequence(), 8u);
   EXPECT_TRUE(s.hand_over(**got));
 }
-
-// The rate the view's frames come at, as LiveView's statistics measure it.
-constexpr double kViewFps = 15;
 
 // Players time a raw H.264 stream by the rate its SPS declares: the view's, capped by the
 // group's; for a view whose rate nobody measured yet, the first two frames' interval.
