@@ -160,8 +160,12 @@ int show_command(const std::vector<std::string>& argv) {
   StaleNotice stale(request.view());
   MouseSteering mouse;
   cv::setMouseCallback(title, &MouseSteering::on_event, &mouse);
+  // The revision our last update returned: a frame of an older one was already on its way
+  // when the update took effect (docs/API.md, "Streams"), so the view never jumps back.
+  uint64_t min_revision = 0;
   while (reader->Read(&frame)) {
     if (frames++ == 0) print_stream_note(context);
+    if (frame.camera().revision() < min_revision) continue;
     const std::string& data = frame.data();
     cv::Mat image = decode_image(data);
     // The last picture again (still steerable): marked, so nobody takes it for live.
@@ -180,8 +184,12 @@ int show_command(const std::vector<std::string>& argv) {
       grpc::ClientContext update_context;
       connection.prepare(update_context, true);
       const grpc::Status status = connection.stub().UpdateView(&update_context, update, &view);
-      // A viewer token cannot steer: say why once per key, keep showing.
-      if (!status.ok()) std::cerr << "omniview show: " << status.error_message() << "\n";
+      if (status.ok()) {
+        min_revision = std::max(min_revision, view.revision());
+      } else {
+        // A viewer token cannot steer: say why once per key, keep showing.
+        std::cerr << "omniview show: " << status.error_message() << "\n";
+      }
     }
   }
   const grpc::Status status = reader->Finish();

@@ -74,7 +74,8 @@ function addPane(view) {
   // No steering hints for a viewer: its token cannot steer.
   const hint = app.link.role === 'viewer' ? null
     : birdseye ? 'tap: look there' : 'drag: pan/tilt · pinch/wheel: zoom · double tap: centre';
-  const pane = new Pane($('panes'), app.link, view, { forceJpeg: app.forceJpeg, hint });
+  const pane = new Pane($('panes'), app.link, view,
+    { forceJpeg: app.forceJpeg, hint, minRevision: () => (app.steering.has(view) ? app.steering.get(view).revision : 0) });
   attachGestures(pane.el, {
     drag: (dx, dy) => {
       if (birdseye) return;

@@ -9,6 +9,9 @@ export class Pane {
   constructor(container, link, view, options = {}) {
     this.link = link;
     this.forceJpeg = !!options.forceJpeg;
+    // The revision this console's last update of the view returned (Steering): a frame of an
+    // older one was on its way before the change took effect, and is not shown.
+    this.minRevision = options.minRevision || (() => 0);
     this.view = view;
     this.el = document.createElement('div');
     this.el.className = 'pane';
@@ -152,6 +155,10 @@ export class Pane {
       this.showStale('stream ended: ' + (error ? error.message : ''));
       return;
     }
+    // H.264 is decoded whole (each access unit refers to the last); the daemon sends no
+    // frame of an older view once the update returned (docs/API.md, "Streams").
+    const revision = Number((header.camera && header.camera.revision) || 0);
+    if (header.encoding !== 'H264' && revision < this.minRevision()) return;
     this.frames++;
     const seq = Number(header.sequence || 0);
     if (!header.stale && this.lastSequence !== null && seq > this.lastSequence + 1) {

@@ -15,6 +15,7 @@ export class Steering {
     this.last = 0;
     this.timer = null;
     this.updates = 0;       // sent, for the status line and tests
+    this.revision = 0;      // the newest revision an update returned: older frames are not shown
   }
 
   add(yawDeg, pitchDeg, zoom = 1) {
@@ -53,7 +54,8 @@ export class Steering {
     this.inFlight = true;
     this.last = performance.now();
     try {
-      await this.link.call('UpdateView', request);
+      const view = await this.link.call('UpdateView', request);
+      this.revision = Math.max(this.revision, Number((view && view.revision) || 0));
       this.updates++;
     } catch (e) {
       this.onError(e);

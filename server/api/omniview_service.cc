@@ -187,8 +187,10 @@ grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::S
       const auto frame = subscriber->take(kPoll);
       if (!frame) continue;  // timed out: check for cancellation and wait again
       if (!*frame) return grpc::Status(subscriber->close_code(), subscriber->close_reason());
+      // Checked last, against the view's revision now: the view may have changed since the
+      // frame was taken (docs/API.md, "Streams").
+      if (!subscriber->hand_over(**frame)) continue;
       if (!writer->Write(**frame)) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
-      subscriber->count_sent();
     }
   });
 }
@@ -221,6 +223,7 @@ grpc::Status OmniviewService::GetSnapshot(grpc::ServerContext* ctx, const v1::Sn
       const auto frame = subscriber->take(kPoll);
       if (!frame) continue;
       if (!*frame) return grpc::Status(subscriber->close_code(), subscriber->close_reason());
+      if (!subscriber->hand_over(**frame)) continue;  // the view changed since it was taken
       *resp = **frame;
       return grpc::Status::OK;
     }

@@ -23,6 +23,13 @@ google::protobuf::Timestamp to_timestamp(std::chrono::system_clock::time_point t
 
 void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& rendered, const EncodingKey& key,
                       const std::vector<std::shared_ptr<Subscriber>>& subscribers, VideoStream* video) {
+  // The view changed while this frame waited for an encoder: its clients refuse it, so it
+  // is not encoded (for H.264 this keeps the stream whole: the frame never enters the
+  // encoder, so no later frame refers to it).
+  if (view.state()->revision > state.revision) {
+    for (auto& s : subscribers) s->count_dropped();
+    return;
+  }
   auto frame = std::make_shared<v1::Frame>();
   try {
     frame->set_view(state.spec.name);
@@ -39,7 +46,7 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
       // The view's rate once it has averaged a few intervals; a view just watched has not.
       const ViewStats stats = view.stats();
       auto au = video->encode(rendered.image, rendered.arrival,
-                              stats.frames > VideoStream::kRateIntervals ? stats.fps : 0);
+                              stats.frames > VideoStream::kRateIntervals ? stats.fps : 0, state.revision);
       if (au.data.empty()) return;  // a new stream's first frames: they only measured the rate
       frame->set_encoding(v1::H264);
       frame->set_width(rendered.image.cols);

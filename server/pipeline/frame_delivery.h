@@ -31,7 +31,8 @@ struct RenderedFrame {
 // Encodes `rendered` in `key` (H264: through `video`, the group's shared encoder), offers
 // it to `subscribers` (a failed encoding ends their streams: FAILED_PRECONDITION for a view
 // the encoding cannot take, such as H.264 of an odd size, INTERNAL otherwise) and records
-// the frame in `view`'s statistics. Never throws.
+// the frame in `view`'s statistics. A frame of a revision older than the view's current one
+// is not encoded (counted as dropped). Never throws.
 void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& rendered, const EncodingKey& key,
                       const std::vector<std::shared_ptr<Subscriber>>& subscribers, VideoStream* video = nullptr);
 

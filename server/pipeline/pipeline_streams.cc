@@ -33,6 +33,9 @@ std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const s
     s = std::make_shared<Subscriber>(peer, key, max_rate_hz, stale_frames);
   }
   view->add_subscriber(s);
+  // After it is listed: an update from here on raises its floor itself, and one before has
+  // its state in place already. Either way no frame of an older revision reaches it.
+  s->set_min_revision(view->state()->revision);
   update_wanted_cameras(view->state()->spec.source);
   return s;
 }

@@ -22,11 +22,16 @@ void Subscriber::offer(SharedFrame frame, std::chrono::steady_clock::time_point 
   {
     std::lock_guard lock(mutex_);
     if (closed_) return;
-    if (video_) {
-      if (!offer_video(frame)) return;
-    } else if (frame->camera().revision() < min_revision_) {
+    if (frame->camera().revision() < min_revision_) {
+      // Rendered before the view changed (an encode in flight across the update).
+      if (video_) {
+        lose_video_frame();
+      } else {
+        ++dropped_;
+      }
       return;
     }
+    if (video_ && !offer_video(frame)) return;
     if (slot_) ++dropped_;  // the client has not taken the previous one: it is stale now
     slot_ = std::move(frame);
     if (max_rate_hz_ > 0) {
@@ -57,13 +62,29 @@ bool Subscriber::offer_video(const SharedFrame& frame) {
   return false;
 }
 
+// Under the lock. A video client misses an encoded frame of an old revision (counted here,
+// with the one in the slot, if any, which refers to it). The frames coded after it refer
+// to it, so the client waits for a key frame, and the encoder makes the first frame of the
+// current revision one, whatever its key frame interval: the stream goes on with the next
+// picture of the new view.
+void Subscriber::lose_video_frame() {
+  if (started_) dropped_ += slot_ ? 2 : 1;
+  slot_.reset();
+  awaiting_key_ = true;
+  video_->request_key_frame_at(min_revision_);
+}
+
 void Subscriber::set_min_revision(uint64_t revision) {
   std::lock_guard lock(mutex_);
-  // A video stream cannot skip a frame without breaking: the frames rendered before the
-  // change still go out (each describes its own revision), the new ones follow.
-  if (video_) return;
   min_revision_ = std::max(min_revision_, revision);
-  if (slot_ && slot_->camera().revision() < min_revision_) slot_.reset();
+  if (!slot_ || slot_->camera().revision() >= min_revision_) return;
+  if (video_) {
+    slot_.reset();  // the frame lost: lose_video_frame counts it
+    lose_video_frame();
+    return;
+  }
+  ++dropped_;
+  slot_.reset();
 }
 
 void Subscriber::count_dropped() {
@@ -105,9 +126,18 @@ std::string Subscriber::close_reason() const {
   return close_reason_;
 }
 
-void Subscriber::count_sent() {
+bool Subscriber::hand_over(const v1::Frame& frame) {
   std::lock_guard lock(mutex_);
+  if (frame.camera().revision() < min_revision_) {
+    if (video_) {
+      lose_video_frame();  // and the frame after it in the slot, which refers to it
+    } else {
+      ++dropped_;
+    }
+    return false;
+  }
   ++sent_;
+  return true;
 }
 
 uint64_t Subscriber::frames_sent() const {

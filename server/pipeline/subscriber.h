@@ -6,6 +6,10 @@
 // its slot plus what gRPC has buffered for it, whatever it does. Closed (the stream ended,
 // or the client left), it refuses every later offer, so encodes still in flight cannot
 // reach it.
+//
+// A view update raises the subscriber's revision floor (set_min_revision) before UpdateView
+// returns; a frame of an older revision is then refused wherever it is: offered, in the
+// slot, or taken by the client's thread and not yet handed to the transport (hand_over).
 #pragma once
 
 #include <chrono>
@@ -62,9 +66,12 @@ class Subscriber {
   bool due(std::chrono::steady_clock::time_point now) const;
   void offer(SharedFrame frame, std::chrono::steady_clock::time_point now);
   // After a view update: frames rendered before revision `revision` are stale; drop any in
-  // the slot and refuse later offers of them, so the next frame taken reflects the change.
+  // the slot and refuse later offers and hand-overs of them, so the next frame the client
+  // gets reflects the change. A video client that loses an encoded frame this way resumes
+  // at the first key frame of the new revision, asked of the group's encoder at once.
   void set_min_revision(uint64_t revision);
-  // A frame meant for this subscriber was replaced by a newer one before it was encoded.
+  // A frame meant for this subscriber was replaced by a newer one before it was encoded, or
+  // not encoded because the view changed meanwhile.
   void count_dropped();
 
   // Ends the stream with this status for the client.
@@ -75,13 +82,18 @@ class Subscriber {
   std::optional<SharedFrame> take(std::chrono::milliseconds timeout);
   grpc::StatusCode close_code() const;
   std::string close_reason() const;
-  void count_sent();
+  // The last check, right before a taken frame goes to the transport: false when the view
+  // changed since the frame was rendered (it is dropped, and counted so); true counts it as
+  // sent. Ordered with set_min_revision by the lock, so no frame passes it once the update
+  // that raised the floor has returned.
+  bool hand_over(const v1::Frame& frame);
 
   uint64_t frames_sent() const;
   uint64_t frames_dropped() const;
 
  private:
   bool offer_video(const SharedFrame& frame);
+  void lose_video_frame();
 
   const std::string peer_;
   const EncodingKey key_;
@@ -96,10 +108,10 @@ class Subscriber {
   grpc::StatusCode close_code_ = grpc::StatusCode::OK;
   std::string close_reason_;
   std::chrono::steady_clock::time_point next_due_{};
-  uint64_t min_revision_ = 0;
+  uint64_t min_revision_ = 0;  // frames of older revisions are refused
   bool awaiting_key_ = true;  // video: the next frame this client can decode is a key frame
   bool started_ = false;      // video: a key frame reached the slot (drops count from then)
-  uint64_t sent_ = 0;
+  uint64_t sent_ = 0;  // handed to the transport
   uint64_t dropped_ = 0;
 };
 

@@ -23,7 +23,14 @@ bool VideoStream::take_turn(Clock::time_point now) {
   return true;
 }
 
-video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point arrival, double view_fps) {
+void VideoStream::request_key_frame_at(uint64_t revision) {
+  uint64_t asked = key_at_revision_.load();
+  while (asked < revision && !key_at_revision_.compare_exchange_weak(asked, revision)) {
+  }
+}
+
+video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point arrival, double view_fps,
+                                      uint64_t revision) {
   std::lock_guard lock(mutex_);
   const cv::Mat* pixels = &image;
   if (key_.gray && image.channels() == 3) {
@@ -61,6 +68,13 @@ video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point ar
     key_wanted_ = true;  // a new size starts with a key frame (new SPS) for everyone
   }
   bool key = false;
+  // Not for a frame of an older revision (still in flight when the view changed): the
+  // clients that asked refuse that one and wait for the key frame of the new view.
+  uint64_t key_at = key_at_revision_.load();
+  if (key_at != 0 && revision >= key_at) {
+    key = true;
+    key_at_revision_.compare_exchange_strong(key_at, 0);  // a later revision's ask stays
+  }
   if (key_wanted_ && (last_key_ == Clock::time_point{} || now - last_key_ >= kMinKeyInterval)) key = true;
   if (now - last_key_ >= kMaxKeyInterval) key = true;
   if (mean_interval_s_ > 0) encoder_->set_frame_rate(1.0 / mean_interval_s_);

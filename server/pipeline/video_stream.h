@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <opencv2/core/mat.hpp>
@@ -47,6 +48,9 @@ class VideoStream {
   }
   // Any thread: the next frame encoded is a key frame (or the first after kMinKeyInterval).
   void request_key_frame() { key_wanted_ = true; }
+  // Any thread: the first frame of view revision `revision` or later is a key frame, at
+  // once (a client lost a frame of the view's previous revision: it resumes there).
+  void request_key_frame_at(uint64_t revision);
 
   // Encoder thread: `image` (grey or BGR; made grey for a gray key) as the next access unit.
   // `view_fps` is the rate the view's frames come at now (0: not known yet). The stream's
@@ -55,12 +59,14 @@ class VideoStream {
   // over its first kRateIntervals intervals (or kRateWindow), and until then each frame
   // only times the rate and an empty access unit comes back (nothing to send).
   // Throws std::invalid_argument where the image cannot be H.264 (an odd size), or
-  // std::runtime_error if the encoder fails.
-  video::AccessUnit encode(const cv::Mat& image, Clock::time_point arrival, double view_fps = 0);
+  // std::runtime_error if the encoder fails. `revision`: the view revision `image` shows.
+  video::AccessUnit encode(const cv::Mat& image, Clock::time_point arrival, double view_fps = 0,
+                           uint64_t revision = 0);
 
  private:
   const EncodingKey key_;
   std::atomic<bool> key_wanted_{true};
+  std::atomic<uint64_t> key_at_revision_{0};  // 0: none asked for
   std::mutex pace_mutex_;  // the render thread's: never waits for an encode
   Clock::time_point next_due_{};
   mutable std::mutex mutex_;  // the encoder's state (the pool runs one job per group at a time anyway)

@@ -34,12 +34,12 @@ void RtspFeed::run() {
     const auto frame = subscriber_->take(std::chrono::milliseconds(100));
     if (!frame) continue;
     if (!*frame) break;  // the view was deleted, or the daemon stops
+    if (!subscriber_->hand_over(**frame)) continue;  // the view changed since it was taken
     const std::string& data = (*frame)->data();
     GstBuffer* buffer = gst_buffer_new_memdup(data.data(), data.size());
     if (!(*frame)->key_frame()) GST_BUFFER_FLAG_SET(buffer, GST_BUFFER_FLAG_DELTA_UNIT);
     // Timestamps: appsrc stamps each buffer with the running time it arrives at (live).
     if (gst_app_src_push_buffer(src, buffer) != GST_FLOW_OK) break;  // the media is going away
-    subscriber_->count_sent();
   }
   gst_app_src_end_of_stream(src);
 }

@@ -47,7 +47,8 @@ class H264Stream : public ::testing::Test {
         << "  - {name: birdseye, type: birdseye, source: spot, width: 800, height: 800, frame: footprint,\n"
         << "     pose: {ypr_deg: [0, 90, 0]}, height_m: 3.0, hfov_deg: 110, fusion: blend}\n"
         << "  - {name: odd, type: perspective, source: spot, width: 641, height: 480, frame: body, hfov_deg: 90}\n"
-        << "  - {name: resized, type: perspective, source: spot, width: 320, height: 240, frame: body, hfov_deg: 90}\n";
+        << "  - {name: resized, type: perspective, source: spot, width: 320, height: 240, frame: body, hfov_deg: 90}\n"
+        << "  - {name: panned, type: perspective, source: spot, width: 320, height: 240, frame: body, hfov_deg: 90}\n";
     daemon_ = new DaemonProcess(*dir_, config.str());
   }
   static void TearDownTestSuite() {
@@ -66,6 +67,7 @@ DaemonProcess* H264Stream::daemon_ = nullptr;
 
 struct Received {
   uint64_t sequence = 0;
+  uint64_t revision = 0;  // of the view it shows
   bool key_frame = false;
   bool decoded = false;
   std::string data;
@@ -139,6 +141,7 @@ class VideoClient {
       if (!reader_->Read(&f)) break;
       Received r;
       r.sequence = f.sequence();
+      r.revision = f.camera().revision();
       r.key_frame = f.key_frame();
       r.data = f.data();
       r.width = f.width();
@@ -489,6 +492,44 @@ TEST_F(H264Stream, AViewResizedMidStreamStartsAgainAtAKeyFrameOrEndsClearlyWhenO
   const auto status = client.finish();
   EXPECT_EQ(status.error_code(), grpc::StatusCode::FAILED_PRECONDITION) << status.error_message();
   EXPECT_NE(status.error_message().find("481x360"), std::string::npos) << status.error_message();
+}
+
+// A joystick's steps while the stream runs: the stream stays whole (every frame decodes:
+// a frame of an old view is dropped before it is encoded, or the next one is a key frame),
+// its revisions never go back, and once the last UpdateView returned no frame of an older
+// view is handed over (docs/API.md, "Streams"): those that arrive after it were counted as
+// handed over by then.
+TEST_F(H264Stream, AJoystickMidStreamKeepsItDecodableAndNeverShowsAnOlderView) {
+  VideoClient client(daemon_->address(), h264("panned"));
+  ASSERT_TRUE(client.wait_for(5, scaled(8000ms))) << daemon_->log();
+  auto stub = make_stub(daemon_->address());
+  v1::UpdateViewRequest update;
+  update.set_name("panned");
+  update.mutable_delta()->set_yaw_deg(3);
+  v1::View view;
+  for (int step = 0; step < 10; ++step) {
+    ASSERT_TRUE(stub->UpdateView(make_context().get(), update, &view).ok());
+    std::this_thread::sleep_for(30ms);  // about a 30 Hz stick
+  }
+  v1::Status status;
+  ASSERT_TRUE(stub->GetStatus(make_context().get(), {}, &status).ok());
+  uint64_t handed_over = 0;
+  for (const auto& c : status.clients()) {
+    if (c.view() == "panned") handed_over = c.frames_sent();
+  }
+  const size_t after = client.count();
+  ASSERT_TRUE(client.wait_for(after + 5, scaled(4000ms)));
+  ASSERT_TRUE(client.wait_for(handed_over + 5, scaled(4000ms)));
+  const auto frames = client.frames();
+  EXPECT_EQ(client.decode_errors(), 0) << client.last_error();
+  uint64_t older = 0;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_TRUE(frames[i].decoded) << frames[i].sequence;
+    if (i > 0) EXPECT_GE(frames[i].revision, frames[i - 1].revision) << frames[i].sequence;
+    older += frames[i].revision < view.revision() ? 1 : 0;
+  }
+  EXPECT_LE(older, handed_over) << "a frame of an older view was handed over after UpdateView returned";
+  EXPECT_EQ(frames.back().revision, view.revision());
 }
 
 }  // namespace

@@ -21,10 +21,11 @@ EncodingKey h264_key() {
   return key;
 }
 
-SharedFrame frame(uint64_t sequence, bool key) {
+SharedFrame frame(uint64_t sequence, bool key, uint64_t revision = 1) {
   auto f = std::make_shared<v1::Frame>();
   f->set_sequence(sequence);
   f->set_key_frame(key);
+  f->mutable_camera()->set_revision(revision);
   return f;
 }
 
@@ -68,6 +69,82 @@ TEST(VideoSubscriber, StartsAtAKeyFrameAndSkipsToTheNextAfterAMissedFrame) {
 
 // The rate the view's frames come at, as LiveView's statistics measure it.
 constexpr double kViewFps = 15;
+
+// After a view update no frame of the old revision reaches the client, wherever it is: in
+// the slot, offered later (an encode in flight), or taken and about to be sent.
+TEST(Subscriber, AFrameOfAnOlderRevisionIsRefusedOnceTheUpdateRaisedTheFloor) {
+  EncodingKey jpeg;
+  Subscriber s("peer", jpeg, 0);
+  const auto now = Clock::now();
+  s.offer(frame(1, true, 1), now);
+  s.set_min_revision(2);
+  EXPECT_FALSE(s.take(0ms).has_value()) << "the old frame in the slot was dropped";
+  s.offer(frame(2, true, 1), now);
+  EXPECT_FALSE(s.take(0ms).has_value()) << "and a later offer of the old revision refused";
+  s.offer(frame(3, true, 2), now);
+  const auto taken = s.take(0ms);
+  ASSERT_TRUE(taken && *taken);
+  s.set_min_revision(3);  // between the take and the send
+  EXPECT_FALSE(s.hand_over(**taken));
+  EXPECT_EQ(s.frames_sent(), 0u);
+  EXPECT_EQ(s.frames_dropped(), 3u);
+  s.offer(frame(4, true, 3), now);
+  const auto next = s.take(0ms);
+  ASSERT_TRUE(next && *next);
+  EXPECT_TRUE(s.hand_over(**next));
+  EXPECT_EQ(s.frames_sent(), 1u);
+}
+
+// H.264: a frame of the old view that was already encoded is not sent; the frames coded
+// after it refer to it, so the client resumes at a key frame, which the encoder makes of
+// the first picture of the new revision at once, whatever the bound on forced key frames.
+// (No take() finds the slot empty here: that asks for a key frame of its own.)
+TEST(VideoSubscriber, AfterAViewChangeTheStreamResumesAtAKeyFrameOfTheNewRevision) {
+  auto video = std::make_shared<VideoStream>(h264_key());
+  Subscriber s("peer", h264_key(), video, false);
+  const auto t0 = Clock::now();
+  int t = 0;
+  const auto encode = [&](uint64_t revision) {
+    const int i = t++;
+    return video->encode(picture(i), t0 + std::chrono::milliseconds(66 * i), kViewFps, revision);
+  };
+  ASSERT_TRUE(encode(1).key_frame);  // the join's
+  s.offer(frame(1, true, 1), Clock::now());
+  auto got = s.take(0ms);
+  ASSERT_TRUE(got && *got && s.hand_over(**got));
+  ASSERT_FALSE(encode(1).key_frame);
+  s.offer(frame(2, false, 1), Clock::now());  // encoded, waiting in the slot
+  s.set_min_revision(2);
+  EXPECT_EQ(s.frames_dropped(), 1u) << "the old frame in the slot";
+  EXPECT_FALSE(encode(1).key_frame) << "an old frame in flight does not take the new view's key frame";
+  s.offer(frame(3, false, 1), Clock::now());
+  EXPECT_EQ(s.frames_dropped(), 2u) << "and refused when it comes";
+  EXPECT_TRUE(encode(2).key_frame);
+  s.offer(frame(4, true, 2), Clock::now());
+  got = s.take(0ms);
+  ASSERT_TRUE(got && *got);
+  EXPECT_EQ((*got)->sequence(), 4u);
+  EXPECT_TRUE(s.hand_over(**got));
+  EXPECT_FALSE(encode(2).key_frame) << "one key frame per change";
+
+  // Taken but not yet sent when the view changes: refused, and the frame after it (in the
+  // slot, coded against it) too; the stream goes on at the new revision's key frame.
+  s.offer(frame(5, false, 2), Clock::now());
+  got = s.take(0ms);
+  ASSERT_TRUE(got && *got);
+  s.offer(frame(6, false, 2), Clock::now());
+  s.set_min_revision(3);
+  EXPECT_FALSE(s.hand_over(**got));
+  EXPECT_EQ(s.frames_dropped(), 4u);
+  EXPECT_EQ(s.frames_sent(), 2u);
+  EXPECT_TRUE(encode(3).key_frame);
+  s.offer(frame(7, false, 3), Clock::now());  // not decodable without 5 and 6: refused
+  s.offer(frame(8, true, 3), Clock::now());
+  got = s.take(0ms);
+  ASSERT_TRUE(got && *got);
+  EXPECT_EQ((*got)->sequence(), 8u);
+  EXPECT_TRUE(s.hand_over(**got));
+}
 
 // Players time a raw H.264 stream by the rate its SPS declares: the view's, capped by the
 // group's; for a view whose rate nobody measured yet, the first two frames' interval.

@@ -65,13 +65,15 @@ void Pump::run(const std::shared_ptr<Core>& core) {
       return;
     }
     {
-      std::lock_guard lock(core->mutex);
-      if (core->stop) return;
-      core->in_flight = true;
-    }
-    {
       const auto connection = core->connection.lock();
       if (!connection) return;
+      // As late as it can be: a frame of a view that changed since it was taken is dropped.
+      if (item.admit && !item.admit()) continue;
+      {
+        std::lock_guard lock(core->mutex);
+        if (core->stop) return;
+        core->in_flight = true;
+      }
       connection->send_latest(core->channel, std::move(item.message), [core](bool written) {
         {
           std::lock_guard lock(core->mutex);

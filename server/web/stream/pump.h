@@ -27,6 +27,9 @@ class Pump {
   struct Item {
     enum Kind { kNothing, kMessage, kEnd } kind = kNothing;
     OutMessage message;
+    // The last check, right before the message goes to the connection: false drops it (a
+    // frame of a view that changed since it was taken). None: always sent.
+    std::function<bool()> admit;
   };
   struct Source {
     std::function<Item(std::chrono::milliseconds)> take;  // waits up to the timeout

@@ -15,8 +15,10 @@
 namespace omniview::web {
 
 // A Pump::Source over a pipeline subscriber: a view's Subscriber or a CloudSubscriber, which
-// share take(), count_sent() and close(). `to_message` makes each item's message; `ended`
-// runs when the subscriber closed on its own (Stream drops it after stop()).
+// share take() and close(). A frame passes its Subscriber's hand_over() right before it
+// goes to the connection (which counts it sent); a cloud is counted once written.
+// `to_message` makes each item's message; `ended` runs when the subscriber closed on its
+// own (Stream drops it after stop()).
 template <class AnySubscriber, class ToMessage>
 Pump::Source subscriber_source(std::shared_ptr<AnySubscriber> subscriber, ToMessage to_message,
                                std::function<void(const AnySubscriber&)> ended) {
@@ -26,10 +28,15 @@ Pump::Source subscriber_source(std::shared_ptr<AnySubscriber> subscriber, ToMess
     const auto next = subscriber->take(timeout);  // nullopt: nothing yet; a null item: closed
     if (!next) return item;
     item.kind = *next ? Pump::Item::kMessage : Pump::Item::kEnd;
-    if (*next) item.message = to_message(*next);
+    if (*next) {
+      item.message = to_message(*next);
+      if constexpr (requires { subscriber->hand_over(**next); }) {
+        item.admit = [subscriber, frame = *next] { return subscriber->hand_over(*frame); };
+      }
+    }
     return item;
   };
-  source.sent = [subscriber] { subscriber->count_sent(); };
+  if constexpr (requires { subscriber->count_sent(); }) source.sent = [subscriber] { subscriber->count_sent(); };
   source.ended = [subscriber, ended = std::move(ended)] { ended(*subscriber); };
   source.interrupt = [subscriber] { subscriber->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
   return source;
