@@ -43,10 +43,11 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
     }
     if (key.encoding == v1::H264) {
       if (video == nullptr) throw std::logic_error("an H.264 frame without its group's encoder");
-      // The view's rate once it has averaged a few intervals; a view just watched has not.
+      // The view's rate once it has averaged a few intervals since its last pause; a view
+      // just watched again has not (the stream then measures its own).
       const ViewStats stats = view.stats();
       auto au = video->encode(rendered.image, rendered.arrival,
-                              stats.frames > VideoStream::kRateIntervals ? stats.fps : 0, state.revision);
+                              stats.run_frames > VideoStream::kRateIntervals ? stats.fps : 0, state.revision);
       if (au.data.empty()) return;  // a new stream's first frames: they only measured the rate
       frame->set_encoding(v1::H264);
       frame->set_width(rendered.image.cols);

@@ -73,9 +73,18 @@ void LiveView::record_frame(double latency_ms, std::chrono::steady_clock::time_p
   std::lock_guard lock(mutex_);
   ++stats_.frames;
   stats_.last_latency_ms = latency_ms;
-  if (stats_.last_frame.time_since_epoch().count() != 0) {
-    const double dt = std::chrono::duration<double>(now - stats_.last_frame).count();
+  const double dt = std::chrono::duration<double>(now - stats_.last_frame).count();
+  // A pause (nobody watched since the last frame, or an interval far beyond the average:
+  // a source that stalled) starts the average again instead of entering it.
+  const bool pause = stats_.run_frames == 0 || stats_.last_frame < watched_since_ ||
+                     (stats_.mean_interval_s > 0 && dt > std::max(1.0, 4 * stats_.mean_interval_s));
+  if (pause) {
+    stats_.mean_interval_s = 0;
+    stats_.fps = 0;
+    stats_.run_frames = 1;
+  } else {
     stats_.fps = add_interval(stats_.mean_interval_s, dt, 0.1);
+    ++stats_.run_frames;
   }
   stats_.last_frame = now;
 }

@@ -39,8 +39,12 @@ struct ViewStats {
   uint64_t frames = 0;
   uint64_t map_rebuilds = 0;
   double last_map_build_ms = 0;
-  double fps = 0;  // 1 / the exponentially averaged frame interval
+  double fps = 0;  // 1 / the exponentially averaged frame interval, since the view's last pause
   double mean_interval_s = 0;
+  // Frames since the average started again: the view was watched again after nobody did,
+  // or its source resumed after a stall. The idle gap is no frame interval, and folded
+  // into the average it made a view's rate read 1-7 Hz for a 10 Hz source (issue 29).
+  uint64_t run_frames = 0;
   double last_latency_ms = 0;
   std::chrono::steady_clock::time_point last_frame{};
 };

@@ -8,6 +8,19 @@ namespace omniview {
 
 double h264_crf(int quality) { return 51.0 - (quality == 0 ? kDefaultH264Quality : quality) / 2.0; }
 
+namespace {
+
+// The rate a new stream's SPS declares for a measured `fps`: the whole number within 3 %
+// (sources run at 10, 15, 30 Hz; a few intervals of jitter must not make every stream
+// start declare another rate), else two decimals.
+double declared_rate(double fps) {
+  const double whole = std::round(fps);
+  if (whole >= 1 && std::abs(fps - whole) <= 0.03 * whole) return whole;
+  return std::round(fps * 100) / 100;
+}
+
+}  // namespace
+
 VideoStream::VideoStream(const EncodingKey& key) : key_(key) {}
 
 bool VideoStream::take_turn(Clock::time_point now) {
@@ -60,7 +73,7 @@ video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point ar
     video::H264Settings settings;
     settings.width = pixels->cols;
     settings.height = pixels->rows;
-    settings.fps = std::clamp(std::round(fps * 100) / 100, 0.1, 120.0);
+    settings.fps = std::clamp(declared_rate(fps), 0.1, 120.0);
     settings.crf = h264_crf(key_.quality);
     settings.max_kbps = key_.max_kbps;
     encoder_.reset();  // the old one's memory first

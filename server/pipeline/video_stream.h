@@ -53,9 +53,10 @@ class VideoStream {
   void request_key_frame_at(uint64_t revision);
 
   // Encoder thread: `image` (grey or BGR; made grey for a gray key) as the next access unit.
-  // `view_fps` is the rate the view's frames come at now (0: not known yet). The stream's
-  // SPS declares its frame rate (players time a raw stream by it), so a new encoder takes
-  // the view's rate, capped by the group's; without it, the stream measures the rate itself
+  // `view_fps` is the rate the view's frames come at now, averaged since its last pause (0:
+  // not known yet). The stream's SPS declares its frame rate (players time a raw stream by
+  // it), so a new encoder takes the view's rate, capped by the group's and rounded to the
+  // whole number within 3 %; without it, the stream measures the rate itself
   // over its first kRateIntervals intervals (or kRateWindow), and until then each frame
   // only times the rate and an empty access unit comes back (nothing to send).
   // Throws std::invalid_argument where the image cannot be H.264 (an odd size), or

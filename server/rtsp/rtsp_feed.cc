@@ -3,6 +3,8 @@
 #include <gst/app/gstappsrc.h>
 #include <pthread.h>
 
+#include "server/pipeline/video_stream.h"
+
 namespace omniview {
 
 RtspFeed::RtspFeed(Pipeline& pipeline, const std::string& view, const EncodingKey& key, double rate_hz,
@@ -28,13 +30,47 @@ RtspFeed::~RtspFeed() {
   gst_object_unref(appsrc_);
 }
 
+void RtspFeed::set_playing(bool playing) {
+  if (playing) play_started_ = true;
+  playing_ = playing;
+}
+
+// The media's preparation (DESCRIBE) waits for the first key frame: its SPS/PPS go into
+// the SDP, and the frame waits in the media until PLAY. Frames after it are of no use
+// before PLAY (they would pile up in appsrc and go out in one burst). From PLAY on, the
+// client gets whole pictures from a fresh key frame on, and a second key frame a little
+// later (kMinKeyInterval): a player that probes the stream before it plays, and drops
+// what it probed (ffplay -fflags nobuffer), used the first one up in probing, and would
+// otherwise show nothing until the periodic key frame 10 s later (issue 29).
+bool RtspFeed::wanted(const v1::Frame& frame) {
+  if (!prerolled_) {
+    prerolled_ = frame.key_frame();
+    return prerolled_;
+  }
+  const auto ask_key_frame = [&] {
+    if (subscriber_->video()) subscriber_->video()->request_key_frame();
+  };
+  if (play_started_.exchange(false)) {
+    awaiting_key_ = true;
+    keys_since_play_ = 0;
+    ask_key_frame();
+  }
+  if (!playing_) return false;
+  if (awaiting_key_ && !frame.key_frame()) return false;  // it depends on frames the client did not get
+  awaiting_key_ = false;
+  if (frame.key_frame() && ++keys_since_play_ == 1) ask_key_frame();
+  return true;
+}
+
 void RtspFeed::run() {
   GstAppSrc* src = GST_APP_SRC(appsrc_);
   while (!stop_) {
     const auto frame = subscriber_->take(std::chrono::milliseconds(100));
     if (!frame) continue;
     if (!*frame) break;  // the view was deleted, or the daemon stops
-    if (!subscriber_->hand_over(**frame)) continue;  // the view changed since it was taken
+    // The view's revision first (it counts what reaches the client), then what this client
+    // can use now (a media that prerolled must not take a frame the revision check drops).
+    if (!subscriber_->hand_over(**frame) || !wanted(**frame)) continue;
     const std::string& data = (*frame)->data();
     GstBuffer* buffer = gst_buffer_new_memdup(data.data(), data.size());
     if (!(*frame)->key_frame()) GST_BUFFER_FLAG_SET(buffer, GST_BUFFER_FLAG_DELTA_UNIT);

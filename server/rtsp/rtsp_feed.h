@@ -23,14 +23,25 @@ class RtspFeed {
   RtspFeed(const RtspFeed&) = delete;
   RtspFeed& operator=(const RtspFeed&) = delete;
 
+  // Server thread: the client's PLAY (true) or PAUSE (false) was answered.
+  void set_playing(bool playing);
+
  private:
   void run();
+  // Feed thread: whether `frame` goes to the client now (see run()).
+  bool wanted(const v1::Frame& frame);
 
   Pipeline& pipeline_;
   const std::string view_;
   std::shared_ptr<Subscriber> subscriber_;
   GstElement* appsrc_;  // a reference of our own
   std::atomic<bool> stop_{false};
+  std::atomic<bool> playing_{false};
+  std::atomic<bool> play_started_{false};  // a PLAY since the feed thread last looked
+  // Feed thread only.
+  bool prerolled_ = false;  // the first key frame went out: the media knows its SPS/PPS
+  bool awaiting_key_ = false;  // frames until the next key frame depend on ones not sent
+  int keys_since_play_ = 0;
   std::thread thread_;
 };
 

@@ -28,11 +28,14 @@ constexpr guint kMountSyncMs = 500;  // views created or deleted through the API
 constexpr guint kIdleSweepMs = 1000;  // how often idle connections are looked for
 
 // appsrc's caps say what we push: Annex-B access units. h264parse puts SPS/PPS into the
-// caps for the SDP; rtph264pay sends them again before every IDR (config-interval -1).
+// caps for the SDP. Every key frame already carries its SPS/PPS (x264 repeats them), so
+// rtph264pay adds none (config-interval 0): with -1 it put another pair before each IDR
+// *slice*, and ffmpeg-based players (ffplay, mpv) then decoded each key frame of several
+// slices as two half pictures (issue 29).
 constexpr const char* kLaunch =
     "( appsrc name=src is-live=true do-timestamp=true format=time "
     "caps=video/x-h264,stream-format=byte-stream,alignment=au "
-    "! h264parse ! rtph264pay name=pay0 pt=96 config-interval=-1 )";
+    "! h264parse ! rtph264pay name=pay0 pt=96 config-interval=0 )";
 
 void init_gstreamer() {
   static std::once_flag once;
@@ -150,8 +153,18 @@ ClientState* client_state(GstRTSPClient* client) {
   return static_cast<ClientState*>(g_object_get_data(G_OBJECT(client), "omniview-state"));
 }
 
-void on_play_request(GstRTSPClient* client, GstRTSPContext*, gpointer) {
+RtspFeed* media_feed(GstRTSPContext* ctx) {
+  if (ctx == nullptr || ctx->media == nullptr) return nullptr;
+  return static_cast<RtspFeed*>(g_object_get_data(G_OBJECT(ctx->media), "omniview-feed"));
+}
+
+void on_play_request(GstRTSPClient* client, GstRTSPContext* ctx, gpointer) {
   if (ClientState* state = client_state(client)) state->played = true;
+  if (RtspFeed* feed = media_feed(ctx)) feed->set_playing(true);
+}
+
+void on_pause_request(GstRTSPClient*, GstRTSPContext* ctx, gpointer) {
+  if (RtspFeed* feed = media_feed(ctx)) feed->set_playing(false);
 }
 
 void on_new_session(GstRTSPClient* client, GstRTSPSession* session, gpointer) {
@@ -192,6 +205,7 @@ void RtspServer::Impl::connected(GstRTSPClient* client) {
   g_object_set_data_full(G_OBJECT(client), "omniview-state", new ClientState{std::move(admitted)},
                          destroy_client_state);
   g_signal_connect(client, "play-request", G_CALLBACK(on_play_request), nullptr);
+  g_signal_connect(client, "pause-request", G_CALLBACK(on_pause_request), nullptr);
   g_signal_connect(client, "new-session", G_CALLBACK(on_new_session), nullptr);
 }
 
