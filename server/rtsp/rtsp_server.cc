@@ -245,6 +245,9 @@ void RtspServer::Impl::unauthorized(GstRTSPContext* ctx) {
 // A connection with nothing playing for rtsp.idle_timeout_s is closed: one that never
 // authenticates, stops after DESCRIBE, or stays paused gives its slot back.
 void RtspServer::Impl::close_idle_clients() {
+  // Threads of medias that ended (GStreamer's task pool, GLib's shared pool) would idle
+  // for 15 s each: after a burst of clients, hundreds. Let them go now.
+  g_thread_pool_stop_unused_threads();
   gst_rtsp_server_client_filter(
       server,
       [](GstRTSPServer*, GstRTSPClient* client, gpointer data) {
