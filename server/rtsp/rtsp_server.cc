@@ -17,6 +17,7 @@
 #include "server/rtsp/connection_limits.h"
 #include "server/rtsp/rtsp_auth.h"
 #include "server/rtsp/rtsp_feed.h"
+#include "server/video/h264_encoder.h"
 
 namespace omniview {
 
@@ -107,6 +108,7 @@ struct RtspServer::Impl {
   int port = 0;
   std::mutex mutex;
   std::set<std::string> mounted;  // view names
+  std::set<std::string> unservable;  // views left unmounted (said once each); the sync's own
   bool stopped = false;
 
   explicit Impl(Pipeline& p) : pipeline(p) {}
@@ -279,9 +281,26 @@ void RtspServer::Impl::mount(const std::string& view) {
 }
 
 // Views follow the API: created ones are mounted, deleted (or renamed) ones unmounted.
+// A view H.264 cannot carry (an odd side) is not mounted: its DESCRIBE gets 404 at once.
+// Mounted, its media would wait for a first frame that never comes, on the one thread
+// that serves every RTSP client, and stall them all for 20 s (issue 29).
 void RtspServer::Impl::sync_mounts() {
   std::set<std::string> views;
-  for (const auto& v : pipeline.list_views()) views.insert(v.spec().name());
+  for (const auto& v : pipeline.list_views()) {
+    const std::string& name = v.spec().name();
+    video::H264Settings settings;
+    settings.width = v.spec().width();
+    settings.height = v.spec().height();
+    try {
+      video::check(settings);
+      views.insert(name);
+      unservable.erase(name);
+    } catch (const std::invalid_argument& e) {
+      if (unservable.insert(name).second) {
+        std::cerr << "omniviewd: rtsp: view '" << name << "' is not served: " << e.what() << std::endl;
+      }
+    }
+  }
   std::lock_guard lock(mutex);
   for (const auto& v : views) {
     if (!mounted.count(v)) mount(v);

@@ -3,6 +3,8 @@
 // views created and deleted through the API appearing and going, and the exposure rule on
 // the RTSP address.
 #include <gtest/gtest.h>
+
+#include <future>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -181,6 +183,32 @@ TEST(Rtsp, ViewsCreatedAndDeletedThroughTheApiComeAndGo) {
   std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(700 * test_time_scale())));
   r = probe(url, 1);
   EXPECT_NE(r.output.find("404"), std::string::npos) << r.output;
+}
+
+// A view H.264 cannot carry (an odd side) is refused at once (404), and never holds up the
+// port for others: its DESCRIBE used to wait 20 s for a first frame on the thread that
+// serves every client (issue 29).
+TEST(Rtsp, AnOddSizedViewIsRefusedAtOnceAndStallsNobody) {
+  if (!have_ffprobe()) GTEST_SKIP() << "ffprobe is not installed (apt-get install ffmpeg)";
+  TempDir dir;
+  const int port = free_port();
+  DaemonProcess daemon(dir, example_config(15, kViews + "  - {name: odd, type: perspective, width: 641, height: 361, "
+                                                        "frame: base_link, hfov_deg: 90}\n" +
+                                                        "rtsp: {listen: 127.0.0.1:" + std::to_string(port) + "}\n"));
+  const std::string base = "rtsp://127.0.0.1:" + std::to_string(port);
+  auto odd = std::async(std::launch::async, [&] {
+    const auto start = std::chrono::steady_clock::now();
+    auto r = probe(base + "/odd", 1);
+    return std::make_pair(r, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  });
+  const auto front = probe(base + "/front", 1);  // meanwhile, another client
+  const auto [r, seconds] = odd.get();
+  EXPECT_NE(r.output.find("404"), std::string::npos) << r.output;
+  EXPECT_LT(seconds, 3 * test_time_scale()) << r.output;
+  EXPECT_NE(front.output.find("h264,640,480"), std::string::npos) << front.output;
+  EXPECT_NE(daemon.log().find("view 'odd' is not served: H.264 (4:2:0) needs an even width and height"),
+            std::string::npos)
+      << daemon.log();
 }
 
 TEST(Rtsp, AnAddressOthersReachNeedsTlsAndTokensAsTheApiDoes) {
