@@ -43,6 +43,9 @@ timing_bound+="|H264Stream.AddsLessThanAFrameIntervalOfLatencyOverJpeg|H264Strea
 # A flood's memory coming back (RSS within 300 MB): ASan's quarantine keeps freed memory
 # (256 MB) and its shadow grows with every allocation, so only a release build measures it.
 timing_bound+="|RtspLimits.FloodsOfParallelDescribesAreCappedAndGiveTheirMemoryBack"
+# A player's first picture within 2 s of joining: a latency of the release build (TSan's
+# slowdown under load made it 8.5 s).
+timing_bound+="|VideoPlayers.ANobufferPlayerShowsItsFirstPictureWithinASecondOrSo"
 # Found under ThreadSanitizer and not yet resolved (runs in the release and ASan trees):
 # RTSPS's handshake races inside Debian's uninstrumented libgnutls. Next step: a module
 # suppression checked against a gnutls built with TSan.

@@ -260,8 +260,19 @@ void RtspServer::Impl::close_idle_clients() {
         if (state->played) gst_rtsp_client_session_filter(client, find_playing_session, &playing);
         const auto now = std::chrono::steady_clock::now();
         if (playing) state->idle_since = now;
-        return now - state->idle_since > std::chrono::seconds(m.config.idle_timeout_s) ? GST_RTSP_FILTER_REMOVE
-                                                                                       : GST_RTSP_FILTER_KEEP;
+        if (now - state->idle_since <= std::chrono::seconds(m.config.idle_timeout_s)) return GST_RTSP_FILTER_KEEP;
+        // The socket shut down first: a connection still in its TLS handshake (a client that
+        // sent nothing, or half a ClientHello) has the handshake's read blocked on it in a
+        // GLib worker thread, which the library's close does not end; the socket then stayed,
+        // in CLOSE-WAIT for good once the peer left. A shutdown wakes that read (a close
+        // would not) and tells the peer; the close gives the file back.
+        if (GstRTSPConnection* conn = gst_rtsp_client_get_connection(client)) {
+          if (GSocket* socket = gst_rtsp_connection_get_read_socket(conn)) {
+            g_socket_shutdown(socket, TRUE, TRUE, nullptr);
+            g_socket_close(socket, nullptr);
+          }
+        }
+        return GST_RTSP_FILTER_REMOVE;
       },
       this);
 }

@@ -260,6 +260,50 @@ TEST(RtspLimits, RtspsConnectionsLeaveNothingBehindUnderTheDefaultFileLimit) {
   EXPECT_NE(r.output.find("h264,320,240"), std::string::npos) << r.output;
 }
 
+// Connections that never finish their TLS handshake (nothing sent, or half a ClientHello)
+// are closed after rtsp.idle_timeout_s like any idle one, socket and all: the library's own
+// close left a handshake's read pending, and the socket stayed in CLOSE-WAIT for good once
+// the peer hung up (found by a fresh-eyes probe of issue 33's fix).
+TEST(RtspLimits, RtspsConnectionsStuckInTheirHandshakeAreClosedWhenIdle) {
+  TempDir dir;
+  const auto certs = dir.path() / "certs";
+  ASSERT_EQ(std::system(
+                ("bash " OMNIVIEW_SOURCE_DIR "/scripts/make-test-certs.sh " + certs.string() + " > /dev/null").c_str()),
+            0);
+  const int port = free_port();
+  DaemonProcess daemon(dir, example_config(15, kViews + "tls: {cert: " + (certs / "server.crt").string() + ", key: " +
+                                                   (certs / "server.key").string() +
+                                                   "}\ntokens:\n  - {role: viewer, token: viewer-token-5be0a9d17c3f2e46}\n"
+                                                   "rtsp: {listen: 127.0.0.1:" + std::to_string(port) +
+                                                   ", idle_timeout_s: 1}\n"));
+  const pid_t pid = daemon.pid();
+  const int files_at_start = open_files(pid);
+  std::vector<int> held;
+  for (int i = 0; i < 12; ++i) {
+    const int fd = connect_to(port);
+    ASSERT_GE(fd, 0);
+    if (i % 2) {  // the start of a ClientHello, never finished
+      const char hello[] = "\x16\x03\x01\x02\x00\x01\x00\x01\xfc\x03\x03";
+      ASSERT_EQ(send(fd, hello, sizeof hello - 1, 0), static_cast<ssize_t>(sizeof hello - 1));
+    }
+    held.push_back(fd);
+  }
+  // The daemon closes each (our end reads EOF) once it has been idle a second or two.
+  for (const int fd : held) {
+    timeval timeout{static_cast<time_t>(10 * test_time_scale()), 0};
+    setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    char buffer[256];
+    ssize_t got;
+    while ((got = recv(fd, buffer, sizeof buffer, 0)) > 0) {  // a TLS alert may come first
+    }
+    EXPECT_TRUE(got == 0 || errno == ECONNRESET) << "the daemon kept a connection stuck in its TLS handshake: "
+                                                 << strerror(errno);
+  }
+  for (const int fd : held) close(fd);
+  EXPECT_TRUE(eventually([&] { return std::abs(open_files(pid) - files_at_start) <= 2; }, 10s))
+      << open_files(pid) << " files open, " << files_at_start << " at the start";
+}
+
 TEST(RtspLimits, FloodsOfParallelDescribesAreCappedAndGiveTheirMemoryBack) {
   TempDir dir;
   const int port = free_port();

@@ -116,6 +116,13 @@ TEST(UpgradeRequest, SubprotocolsAndTokens) {
   u = parse_upgrade(upgrade_request("/?token=query", "", "Bearer header"));
   // Both are checked (a wrong one is refused even beside a good one); the header's decides the caller.
   EXPECT_EQ(u.tokens, (std::vector<std::string>{"header", "query"}));
+  // Every one, wherever it repeats: a wrong second token is not hidden behind a good first.
+  u = parse_upgrade(upgrade_request("/?token=good&x=1&token=wrong", ""));
+  EXPECT_EQ(u.tokens, (std::vector<std::string>{"good", "wrong"}));
+  http::request<http::string_body> two(http::verb::get, "/", 11);
+  two.insert(http::field::authorization, "Bearer good");
+  two.insert(http::field::authorization, "Bearer wrong");
+  EXPECT_EQ(parse_upgrade(two).tokens, (std::vector<std::string>{"good", "wrong"}));
   u = parse_upgrade(upgrade_request("/", "", "Basic dXNlcg=="));
   EXPECT_EQ(u.tokens, std::vector<std::string>{""});  // malformed: refused as such, never "no token"
   EXPECT_EQ(query_value("/?token", "token"), std::nullopt);

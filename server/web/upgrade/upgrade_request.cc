@@ -24,8 +24,15 @@ int hex(char c) {
 }  // namespace
 
 std::optional<std::string> query_value(const std::string& target, const std::string& key) {
+  auto values = query_values(target, key);
+  if (values.empty()) return std::nullopt;
+  return std::move(values.front());
+}
+
+std::vector<std::string> query_values(const std::string& target, const std::string& key) {
+  std::vector<std::string> values;
   const auto q = target.find('?');
-  if (q == std::string::npos) return std::nullopt;
+  if (q == std::string::npos) return values;
   const std::string query = target.substr(q + 1, target.find('#', q) - q - 1);
   size_t start = 0;
   while (start <= query.size()) {
@@ -45,11 +52,11 @@ std::optional<std::string> query_value(const std::string& target, const std::str
           out += raw[i];
         }
       }
-      return out;
+      values.push_back(std::move(out));
     }
     start = end + 1;
   }
-  return std::nullopt;
+  return values;
 }
 
 UpgradeRequest parse_upgrade(const http::request<http::string_body>& request) {
@@ -68,12 +75,15 @@ UpgradeRequest parse_upgrade(const http::request<http::string_body>& request) {
       start = end + 1;
     }
   }
-  if (const auto auth = request.find(http::field::authorization); auth != request.end()) {
+  // Every Authorization header and every `token=` of the query: a wrong one anywhere is
+  // refused, whatever comes before it.
+  const auto [first, last] = request.equal_range(http::field::authorization);
+  for (auto auth = first; auth != last; ++auth) {
     const auto value = auth->value();
     const auto token = bearer_token(std::string_view(value.data(), value.size()));
     up.tokens.push_back(token ? std::string(*token) : "");  // malformed: refused as such, never "no token"
   }
-  if (auto token = query_value(std::string(request.target()), "token")) up.tokens.push_back(std::move(*token));
+  for (auto& token : query_values(std::string(request.target()), "token")) up.tokens.push_back(std::move(token));
   return up;
 }
 
