@@ -85,6 +85,14 @@ std::shared_ptr<grpc::Channel> RobotChannels::channel(const std::string& authori
   return channel;
 }
 
+bool RobotChannels::any_connected() {
+  std::lock_guard lock(mutex_);
+  for (const auto& [name, channel] : channels_) {
+    if (channel->GetState(false) == GRPC_CHANNEL_READY) return true;
+  }
+  return false;
+}
+
 void RobotChannels::reset() {
   std::lock_guard lock(mutex_);
   channels_.clear();

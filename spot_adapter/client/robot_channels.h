@@ -34,6 +34,9 @@ class RobotChannels {
   std::shared_ptr<grpc::Channel> channel(const std::string& authority);
   // Drops every channel, so the next calls connect afresh (after the robot went away).
   void reset();
+  // Some connection to the robot is up now (a call that failed on it was answered by the
+  // robot, not lost on the way).
+  bool any_connected();
 
   const RobotAddress& address() const { return address_; }
 

@@ -13,16 +13,16 @@ void check_status(const grpc::Status& status, const std::string& what) {
   }
   switch (status.error_code()) {
     case grpc::StatusCode::UNAUTHENTICATED:
-      throw SpotError(SpotError::Kind::kTokenRejected, detail);
+      throw SpotError(SpotError::Kind::kTokenRejected, detail, status.error_code());
     case grpc::StatusCode::UNAVAILABLE:
     case grpc::StatusCode::DEADLINE_EXCEEDED:
     case grpc::StatusCode::CANCELLED:
     case grpc::StatusCode::RESOURCE_EXHAUSTED:  // the robot proxy's HTTP 429
     case grpc::StatusCode::ABORTED:
-      throw SpotError(SpotError::Kind::kUnreachable, detail);
+      throw SpotError(SpotError::Kind::kUnreachable, detail, status.error_code());
     default:
       // UNIMPLEMENTED (HTTP 502/404 from the proxy: service not registered), INTERNAL, ...
-      throw SpotError(SpotError::Kind::kProtocol, detail);
+      throw SpotError(SpotError::Kind::kProtocol, detail, status.error_code());
   }
 }
 

@@ -19,11 +19,15 @@ class SpotError : public std::runtime_error {
     kProtocol,       // the robot answered with something we cannot use
   };
 
-  SpotError(Kind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
+  SpotError(Kind kind, const std::string& message, grpc::StatusCode code = grpc::StatusCode::UNKNOWN)
+      : std::runtime_error(message), kind_(kind), code_(code) {}
   Kind kind() const { return kind_; }
+  // The failed call's gRPC code (UNKNOWN for errors that were not a call's).
+  grpc::StatusCode code() const { return code_; }
 
  private:
   Kind kind_;
+  grpc::StatusCode code_;
 };
 
 // Throws SpotError for a failed call: `what` says which call ("GetImage on api.spot.robot").

@@ -31,8 +31,9 @@ constexpr auto kJointsStale = milliseconds(1000);
 constexpr auto kClockUpdateInterval = std::chrono::seconds(30);
 // How long a camera's last good image stands in for bad ones before it goes black.
 constexpr auto kHoldLastImage = milliseconds(1000);
-// Frame sets within this long of each other: the robot is connected, even if calls fail in
-// between (GetStatus then says degraded, with the failure rate).
+// A frame set, or a failed call the robot answered (not one lost on the way), within this
+// long: the robot is connected, whatever fails in between (GetStatus then says degraded,
+// with the failure rate). Only silence makes it "not connected".
 constexpr auto kConnectedWindow = milliseconds(1000);
 // The failure rate's memory: each call's outcome weighs 1/20 (about the last 20 calls).
 constexpr double kFailureRateWeight = 1.0 / 20;
@@ -287,7 +288,7 @@ void SpotSource::finish_call(ImageCall& call) {
     frames->rig_version = rig_version_;
     ++health_.frames;
     health_.connected = true;
-    last_frame_ = arrival;
+    last_answer_ = arrival;
     if (set.problems.empty()) health_.message = connect_note_;
   }
   frames->images = std::move(set.images);
@@ -348,6 +349,11 @@ std::chrono::milliseconds SpotSource::on_error(const SpotError& e) {
       break;
   }
   const std::string message = std::string(e.what()) + "; " + advice;
+  // The robot answered (its proxy or a service said no) rather than the call timing out
+  // or the connection being down.
+  const bool answered = e.kind() == SpotError::Kind::kProtocol ||
+                        (e.kind() == SpotError::Kind::kUnreachable && e.code() != grpc::StatusCode::DEADLINE_EXCEEDED &&
+                         e.code() != grpc::StatusCode::CANCELLED && channels_.any_connected());
   bool changed;
   {
     std::lock_guard lock(mutex_);
@@ -356,7 +362,8 @@ std::chrono::milliseconds SpotSource::on_error(const SpotError& e) {
     changed = health_.message != message;
     // One failed call among good ones leaves the robot connected (degraded); a robot that
     // stopped answering, or a session being repaired, is not.
-    health_.connected = session_.connected() && Clock::now() - last_frame_ < kConnectedWindow;
+    if (answered) last_answer_ = Clock::now();
+    health_.connected = session_.connected() && Clock::now() - last_answer_ < kConnectedWindow;
     health_.message = message;
   }
   if (changed || Clock::now() - last_error_log_ > kErrorLogInterval) {

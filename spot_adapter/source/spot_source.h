@@ -86,9 +86,9 @@ class SpotSource : public Source {
   // ~20: the failure rate GetStatus shows. Under mutex_ (health_ reads it).
   void count_outcome(bool failed);
   double failure_rate_ = 0;
-  // The last frame set delivered: the robot counts as connected while they keep coming
-  // within kConnectedWindow, whatever fails in between (then "degraded", not "NO").
-  std::chrono::steady_clock::time_point last_frame_;
+  // The last frame set delivered, or failed call the robot answered: the robot counts as
+  // connected while they keep coming within kConnectedWindow (then "degraded", not "NO").
+  std::chrono::steady_clock::time_point last_answer_;
   std::chrono::steady_clock::time_point last_error_log_;
   std::chrono::steady_clock::time_point last_rig_change_;
   std::chrono::steady_clock::time_point last_channel_reset_;
