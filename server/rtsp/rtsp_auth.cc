@@ -28,6 +28,13 @@ bool authenticated(GstRTSPAuth* auth, GstRTSPContext* ctx) {
   return ctx->token != nullptr;
 }
 
+// 454, as the library answers a session id it does not know.
+void send_session_not_found(GstRTSPContext* ctx) {
+  gst_rtsp_message_init_response(ctx->response, GST_RTSP_STS_SESSION_NOT_FOUND,
+                                 gst_rtsp_status_as_text(GST_RTSP_STS_SESSION_NOT_FOUND), ctx->request);
+  gst_rtsp_client_send_message(ctx->client, nullptr, ctx->response);
+}
+
 // 401 with the WWW-Authenticate header, as the library answers a DESCRIBE without credentials.
 void send_unauthorized(GstRTSPAuth* auth, GstRTSPContext* ctx) {
   gst_rtsp_message_init_response(ctx->response, GST_RTSP_STS_UNAUTHORIZED,
@@ -43,6 +50,11 @@ gboolean check(GstRTSPAuth* auth, GstRTSPContext* ctx, const gchar* what) {
   if (g_str_equal(what, GST_RTSP_AUTH_CHECK_URL) && !authenticated(auth, ctx)) {
     send_unauthorized(auth, ctx);
     if (hooks.refused) hooks.refused(ctx);
+    return FALSE;
+  }
+  if (g_str_equal(what, GST_RTSP_AUTH_CHECK_URL) && ctx->session != nullptr && hooks.foreign && hooks.foreign(ctx)) {
+    if (hooks.refused_session) hooks.refused_session(ctx);  // first: sending clears ctx->session
+    send_session_not_found(ctx);
     return FALSE;
   }
   return GST_RTSP_AUTH_CLASS(omniview_rtsp_auth_parent_class)->check(auth, ctx, what);

@@ -118,6 +118,7 @@ struct RtspServer::Impl {
   bool admit(GstRTSPContext* ctx);
   void connected(GstRTSPClient* client);
   void unauthorized(GstRTSPContext* ctx);
+  void untie_foreign_session(GstRTSPContext* ctx);
   void close_idle_clients();
 };
 
@@ -169,6 +170,13 @@ void on_pause_request(GstRTSPClient*, GstRTSPContext* ctx, gpointer) {
   if (RtspFeed* feed = media_feed(ctx)) feed->set_playing(false);
 }
 
+// A session the request's connection did not make (another client's, or one it made on an
+// earlier connection).
+bool foreign_session(GstRTSPContext* ctx) {
+  const ClientState* state = ctx->client != nullptr ? client_state(ctx->client) : nullptr;
+  return state == nullptr || !state->own_sessions.count(gst_rtsp_session_get_sessionid(ctx->session));
+}
+
 void on_new_session(GstRTSPClient* client, GstRTSPSession* session, gpointer) {
   if (ClientState* state = client_state(client)) state->own_sessions.insert(gst_rtsp_session_get_sessionid(session));
 }
@@ -211,23 +219,24 @@ void RtspServer::Impl::connected(GstRTSPClient* client) {
   g_signal_connect(client, "new-session", G_CALLBACK(on_new_session), nullptr);
 }
 
-// A request answered 401. The library looks its session id up before any check and ties
-// the session to the connection, which would stop the session's streams when that
-// connection closes: a session this connection did not make is untied again. Then the
-// log, rate-limited per host like the gRPC port's refusals; the path only (the request
-// line carries no credentials, the Authorization header is never logged).
+// The library looks a request's session id up before any check and ties the session to
+// the connection, which would stop the session's streams when that connection closes: a
+// session this connection did not make, named in a refused request, is untied again.
+void RtspServer::Impl::untie_foreign_session(GstRTSPContext* ctx) {
+  if (ctx->session == nullptr || ctx->client == nullptr || !foreign_session(ctx)) return;
+  gst_rtsp_client_session_filter(
+      ctx->client,
+      [](GstRTSPClient*, GstRTSPSession* session, gpointer named) {
+        return session == named ? GST_RTSP_FILTER_REMOVE : GST_RTSP_FILTER_KEEP;
+      },
+      ctx->session);
+}
+
+// A request answered 401: the session it named untied, then the log, rate-limited per
+// host like the gRPC port's refusals; the path only (the request line carries no
+// credentials, the Authorization header is never logged).
 void RtspServer::Impl::unauthorized(GstRTSPContext* ctx) {
-  if (ctx->session != nullptr && ctx->client != nullptr) {
-    const ClientState* state = client_state(ctx->client);
-    if (state == nullptr || !state->own_sessions.count(gst_rtsp_session_get_sessionid(ctx->session))) {
-      gst_rtsp_client_session_filter(
-          ctx->client,
-          [](GstRTSPClient*, GstRTSPSession* session, gpointer named) {
-            return session == named ? GST_RTSP_FILTER_REMOVE : GST_RTSP_FILTER_KEEP;
-          },
-          ctx->session);
-    }
-  }
+  untie_foreign_session(ctx);
   const std::string host = peer_ip(ctx->conn);
   const auto left_out = refusals.admit(host);
   if (!left_out) return;
@@ -363,7 +372,8 @@ RtspServer::RtspServer(const DaemonConfig& config, Pipeline& pipeline) : impl_(s
   // tokens, everybody. TLS (RTSPS) with the API's certificate. Every request is checked
   // (rtsp_auth.h), and every new connection against the caps.
   m.auth = make_rtsp_auth({[&m](GstRTSPContext* ctx) { return m.admit(ctx); },
-                           [&m](GstRTSPContext* ctx) { m.unauthorized(ctx); }});
+                           [&m](GstRTSPContext* ctx) { m.unauthorized(ctx); }, foreign_session,
+                           [&m](GstRTSPContext* ctx) { m.untie_foreign_session(ctx); }});
   for (const auto& t : config.tokens) {
     gchar* basic = gst_rtsp_auth_make_basic(kUser, t.token.c_str());
     GstRTSPToken* token = gst_rtsp_token_new(GST_RTSP_TOKEN_MEDIA_FACTORY_ROLE, G_TYPE_STRING, kRole, nullptr);

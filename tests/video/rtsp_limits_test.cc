@@ -381,6 +381,12 @@ TEST(RtspLimits, EveryRequestIsAuthenticatedOnItsOwnConnectionAndRefusalsAreLogg
       EXPECT_EQ(status_of(reply), 401) << method << ": " << reply;
     }
     EXPECT_EQ(status_of(b.request("OPTIONS")), 401);
+    // With a valid token B still controls only the streams it set up: A's session is, to
+    // B, one that does not exist.
+    for (const std::string method : {"PAUSE", "PLAY", "GET_PARAMETER", "SET_PARAMETER", "TEARDOWN"}) {
+      const std::string reply = b.request(method, auth + session);
+      EXPECT_EQ(status_of(reply), 454) << method << ": " << reply;
+    }
   }
   // A's session is untouched (B's connection named it and closed: that stopped nothing),
   // and A itself still needs its credentials on every request.
