@@ -56,7 +56,7 @@ export class Pane {
       await this.subscribe('H264');
     } catch (e) {
       console.warn('H.264 of', this.view, 'refused, JPEG instead:', e.message);
-      await this.subscribe('JPEG', e.message);  // e.g. a view of odd size cannot be H.264
+      await this.subscribe('JPEG', e.message);  // e.g. a view larger than H.264's largest picture
     }
   }
 
@@ -128,7 +128,11 @@ export class Pane {
 
   onPicture(frame) {
     if (this.stopped) return frame.close();
-    this.draw(frame, frame.displayWidth, frame.displayHeight);
+    // A view of an odd side is coded one pixel larger (its edge repeated): the frame's
+    // header says the view's own size.
+    const h = this.header;
+    this.draw(frame, Math.min(frame.displayWidth, (h && h.width) || frame.displayWidth),
+      Math.min(frame.displayHeight, (h && h.height) || frame.displayHeight));
     if (this.picture) this.picture.close();
     this.picture = frame;
   }
@@ -143,8 +147,8 @@ export class Pane {
     }
     if (!this.picture) return null;
     const canvas = document.createElement('canvas');
-    canvas.width = this.picture.displayWidth;
-    canvas.height = this.picture.displayHeight;
+    canvas.width = Math.min(this.picture.displayWidth, (this.header && this.header.width) || Infinity);
+    canvas.height = Math.min(this.picture.displayHeight, (this.header && this.header.height) || Infinity);
     canvas.getContext('2d').drawImage(this.picture, 0, 0);
     const blob = await new Promise((resolve) => canvas.toBlob(resolve, 'image/png'));
     return blob && { blob, ext: 'png' };
@@ -214,7 +218,7 @@ export class Pane {
     const ctx = this.canvas.getContext('2d');
     ctx.fillStyle = '#000';
     ctx.fillRect(0, 0, w, h);
-    ctx.drawImage(image, x, y, dw, dh);
+    ctx.drawImage(image, 0, 0, iw, ih, x, y, dw, dh);
     this.rect = { x: x / dpr, y: y / dpr, w: dw / dpr, h: dh / dpr, iw, ih };
   }
 

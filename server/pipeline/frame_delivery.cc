@@ -59,7 +59,7 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
       encode_frame(rendered.image, key, *frame);
     }
   } catch (const std::invalid_argument& e) {
-    // The view changed into something this encoding cannot carry (H.264 of an odd size).
+    // The view changed into something this encoding cannot carry (H.264 beyond its largest size).
     for (auto& s : subscribers) {
       s->close(grpc::StatusCode::FAILED_PRECONDITION, "view '" + state.spec.name + "': " + e.what());
     }

@@ -146,7 +146,10 @@ void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet
   }
   // Encoding is the encoder pool's: this thread goes on to the next view or frame set.
   const int width = rendered->image.cols, height = rendered->image.rows;
-  for (auto& [key, subscribers] : groups) {
+  for (auto& group : groups) {
+    // Named copies: clang before 16 cannot capture structured bindings.
+    const auto& key = group.first;
+    const auto& subscribers = group.second;
     EncoderPool::Job job;
     job.run = [view, state, rendered, key, subscribers, video = subscribers.front()->video()] {
       encode_and_offer(*view, *state, *rendered, key, subscribers, video.get());

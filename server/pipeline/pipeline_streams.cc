@@ -16,8 +16,7 @@ std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const s
   auto view = find_view(name);
   std::shared_ptr<Subscriber> s;
   if (key.encoding == v1::H264) {
-    // Refused up front (an odd or too large size) rather than ending the stream at its
-    // first frame.
+    // Refused up front (too large a size) rather than ending the stream at its first frame.
     const auto state = view->state();
     video::H264Settings settings;
     settings.width = state->spec.width;

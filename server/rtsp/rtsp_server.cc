@@ -301,7 +301,7 @@ void RtspServer::Impl::mount(const std::string& view) {
 }
 
 // Views follow the API: created ones are mounted, deleted (or renamed) ones unmounted.
-// A view H.264 cannot carry (an odd side) is not mounted: its DESCRIBE gets 404 at once.
+// A view H.264 cannot carry (beyond its largest picture) is not mounted: its DESCRIBE gets 404 at once.
 // Mounted, its media would wait for a first frame that never comes, on the one thread
 // that serves every RTSP client, and stall them all for 20 s (issue 29).
 void RtspServer::Impl::sync_mounts() {

@@ -35,10 +35,6 @@ void check(const H264Settings& s) {
     throw std::invalid_argument("H.264 needs a picture of 2x2 to " + size_text(kMaxSide, kMaxSide) + ", got " +
                                 size_text(s.width, s.height));
   }
-  if (s.width % 2 != 0 || s.height % 2 != 0) {
-    throw std::invalid_argument("H.264 (4:2:0) needs an even width and height, got " + size_text(s.width, s.height) +
-                                ": make the view one pixel larger or smaller, or use JPEG");
-  }
   if (!(s.fps > 0 && s.fps <= 1000)) throw std::invalid_argument("H.264 frame rate must be in (0, 1000] Hz");
   if (!(s.crf >= 0 && s.crf <= 51)) throw std::invalid_argument("H.264 CRF must be 0..51");
   if (s.max_kbps != 0 && (s.max_kbps < kMinKbps || s.max_kbps > kMaxKbps)) {
@@ -69,8 +65,8 @@ H264Encoder::H264Encoder(const H264Settings& settings) : settings_(settings), x2
   p.pf_log = keep_errors;
   p.p_log_private = &x264_->error;
   p.i_log_level = X264_LOG_ERROR;
-  p.i_width = settings_.width;
-  p.i_height = settings_.height;
+  p.i_width = coded_width();
+  p.i_height = coded_height();
   p.i_csp = X264_CSP_I420;
   // Full-range BT.601 (as JPEG): grey pixels are the luma as they are.
   p.vui.b_fullrange = 1;
@@ -107,13 +103,12 @@ H264Encoder::H264Encoder(const H264Settings& settings) : settings_(settings), x2
   if (x264_param_apply_profile(&p, "high") < 0) throw std::runtime_error("x264 refused the High profile");
   x264_->handle = x264_encoder_open(&p);
   if (x264_->handle == nullptr) {
-    throw std::runtime_error("cannot start the H.264 encoder (x264) for " +
-                             size_text(settings_.width, settings_.height) +
+    throw std::runtime_error("cannot start the H.264 encoder (x264) for " + size_text(coded_width(), coded_height()) +
                              (x264_->error.empty() ? "" : ": " + x264_->error));
   }
   x264_picture_init(&x264_->picture);
   frame_rate_ = settings_.fps;
-  yuv_.create(settings_.height * 3 / 2, settings_.width, CV_8UC1);
+  yuv_.create(coded_height() * 3 / 2, coded_width(), CV_8UC1);
 }
 
 H264Encoder::~H264Encoder() = default;
@@ -132,15 +127,20 @@ void H264Encoder::set_frame_rate(double fps) {
   if (x264_encoder_reconfig(x264_->handle, &p) == 0) frame_rate_ = fps;
 }
 
-AccessUnit H264Encoder::encode(const cv::Mat& image, int64_t pts_ms, bool key_frame) {
-  const int w = settings_.width, h = settings_.height;
-  if (image.cols != w || image.rows != h) {
-    throw std::invalid_argument("H.264 encoder for " + size_text(w, h) + " got a " + size_text(image.cols, image.rows) +
-                                " image");
+AccessUnit H264Encoder::encode(const cv::Mat& view_image, int64_t pts_ms, bool key_frame) {
+  if (view_image.cols != settings_.width || view_image.rows != settings_.height) {
+    throw std::invalid_argument("H.264 encoder for " + size_text(settings_.width, settings_.height) + " got a " +
+                                size_text(view_image.cols, view_image.rows) + " image");
   }
-  if (image.type() != CV_8UC1 && image.type() != CV_8UC3) {
+  if (view_image.type() != CV_8UC1 && view_image.type() != CV_8UC3) {
     throw std::invalid_argument("H.264 encoder takes 8-bit grey or BGR images, got OpenCV type " +
-                                std::to_string(image.type()));
+                                std::to_string(view_image.type()));
+  }
+  const int w = coded_width(), h = coded_height();
+  cv::Mat image = view_image;
+  if (w != view_image.cols || h != view_image.rows) {
+    cv::copyMakeBorder(view_image, padded_, 0, h - view_image.rows, 0, w - view_image.cols, cv::BORDER_REPLICATE);
+    image = padded_;
   }
   cv::Mat y(h, w, CV_8UC1, yuv_.data);
   cv::Mat u(h / 2, w / 2, CV_8UC1, yuv_.data + static_cast<size_t>(w) * h);

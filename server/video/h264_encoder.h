@@ -11,9 +11,13 @@
 // Pictures are 4:2:0 (I420), also for grey views (constant mid-grey chroma, which costs
 // almost no bits): 4:0:0 is High-profile-only and many decoders (browsers' WebCodecs,
 // hardware decoders, most players' fast paths) do not take it. Full-range BT.601, as JPEG,
-// so a grey view's luma is its pixel values unchanged. 4:2:0 needs an even width and
-// height (H.264's cropping works in 2-pixel units for 4:2:0, so padding cannot hide one
-// odd column): odd sizes are refused with a clear error, never encoded wrongly.
+// so a grey view's luma is its pixel values unchanged.
+//
+// 4:2:0 needs even sides, and H.264's cropping works in 2-pixel units for 4:2:0 (the SPS
+// cannot declare an odd width), so a view of an odd side is coded at the even size that
+// covers it, its last column (row) repeated: the picture decodes one pixel wider (taller)
+// than the view, and Frame.width/height say the view's own size to crop to. Every view is
+// watchable over every H.264 path; a player that ignores Frame shows one repeated edge.
 #pragma once
 
 #include <cstdint>
@@ -58,6 +62,9 @@ class H264Encoder {
   H264Encoder& operator=(const H264Encoder&) = delete;
 
   const H264Settings& settings() const { return settings_; }
+  // The coded picture: the settings' size rounded up to even sides.
+  int coded_width() const { return settings_.width + settings_.width % 2; }
+  int coded_height() const { return settings_.height + settings_.height % 2; }
 
   // `image`: CV_8UC1 (grey) or CV_8UC3 (BGR) of the configured size; `pts_ms`: its time in
   // milliseconds (only its differences matter; made strictly increasing here). A key frame
@@ -74,6 +81,7 @@ class H264Encoder {
   H264Settings settings_;
   std::unique_ptr<X264> x264_;
   cv::Mat yuv_;  // I420: Y, then U, then V planes, one buffer reused frame after frame
+  cv::Mat padded_;  // an odd-sided image with its last column/row repeated
   int64_t last_pts_ = INT64_MIN;
   double frame_rate_ = 0;           // what the ceiling is set for
   bool grey_chroma_ready_ = false;  // the U and V planes hold mid-grey already

@@ -229,19 +229,23 @@ TEST(VideoStream, KeepsTheGroupsPace) {
   EXPECT_LE(turns, 16);
 }
 
-TEST(VideoStream, AnOddSizeIsAClearErrorAndAResizeStartsWithAKeyFrame) {
+TEST(VideoStream, AResizeStartsWithAKeyFrameAndOddSizesAndAbsurdOnesAreTold) {
   VideoStream video(h264_key());
   const auto now = Clock::now();
   EXPECT_TRUE(video.encode(picture(0), now, kViewFps).key_frame);
   EXPECT_FALSE(video.encode(picture(1), now + 66ms, kViewFps).key_frame);
   cv::Mat bigger(60, 80, CV_8UC1, cv::Scalar(90));
   EXPECT_TRUE(video.encode(bigger, now + 132ms, kViewFps).key_frame);
-  cv::Mat odd(60, 81, CV_8UC1, cv::Scalar(90));
+  cv::Mat odd(61, 81, CV_8UC1, cv::Scalar(90));  // coded 82x62 (h264_encoder.h)
+  const auto au = video.encode(odd, now + 200ms, kViewFps);
+  EXPECT_TRUE(au.key_frame);
+  EXPECT_FALSE(au.data.empty());
+  cv::Mat huge(8, 8200, CV_8UC1, cv::Scalar(90));
   try {
-    video.encode(odd, now + 200ms, kViewFps);
-    ADD_FAILURE() << "an odd size was encoded";
+    video.encode(huge, now + 266ms, kViewFps);
+    ADD_FAILURE() << "a picture wider than H.264's widest was encoded";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("81x60"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("8200x8"), std::string::npos) << e.what();
   }
 }
 

@@ -14,7 +14,7 @@ namespace {
 
 constexpr auto kReadvertisePeriod = std::chrono::seconds(2);
 
-// Whether a view's size can be H.264 (4:2:0 needs even sides): odd ones get no video channel.
+// Whether a view's size can be H.264 (not beyond its largest picture): others get no video channel.
 bool h264_size(int width, int height) {
   video::H264Settings settings;
   settings.width = width;

@@ -2,7 +2,7 @@
 // so Foxglove and Lichtblick show omniview's views and clouds with no plugin:
 //
 //   /<view>/image         foxglove.CompressedImage   the view's frames (JPEG)
-//   /<view>/video         foxglove.CompressedVideo   the same as H.264 (views with even sides)
+//   /<view>/video         foxglove.CompressedVideo   the same as H.264 (an odd side coded one pixel larger)
 //   /<view>/calibration   foxglove.CameraCalibration pinhole views: the virtual camera
 //   /<source>/cloud       foxglove.PointCloud        coloured lidar clouds (sources with one)
 //   /tf                   foxglove.FrameTransforms   rig frames, views and their optical frames
