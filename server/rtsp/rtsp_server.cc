@@ -119,6 +119,7 @@ struct RtspServer::Impl {
   void connected(GstRTSPClient* client);
   void unauthorized(GstRTSPContext* ctx);
   void untie_foreign_session(GstRTSPContext* ctx);
+  GstRTSPStatusCode check_source(GstRTSPContext* ctx);
   void close_idle_clients();
 };
 
@@ -217,6 +218,39 @@ void RtspServer::Impl::connected(GstRTSPClient* client) {
   g_signal_connect(client, "play-request", G_CALLBACK(on_play_request), nullptr);
   g_signal_connect(client, "pause-request", G_CALLBACK(on_pause_request), nullptr);
   g_signal_connect(client, "new-session", G_CALLBACK(on_new_session), nullptr);
+  g_signal_connect(client, "pre-describe-request",
+                   G_CALLBACK(+[](GstRTSPClient*, GstRTSPContext* ctx, gpointer data) {
+                     return static_cast<Impl*>(data)->check_source(ctx);
+                   }),
+                   this);
+}
+
+// A DESCRIBE waits for the view's first key frame (its SPS/PPS go into the SDP), on the
+// thread that serves every client. A view whose source has delivered nothing and is not
+// connected (a robot not reached since the daemon started, a camera unplugged) would hold
+// them all for the library's 20 s: 503 at once instead, the source's own message logged.
+// A connected source that has not sent yet (nobody watched until now) is waited for.
+GstRTSPStatusCode RtspServer::Impl::check_source(GstRTSPContext* ctx) {
+  if (ctx->uri == nullptr || ctx->uri->abspath == nullptr) return GST_RTSP_STS_OK;
+  std::string view = ctx->uri->abspath;
+  view = view.substr(view.find_first_not_of('/') == std::string::npos ? view.size() : view.find_first_not_of('/'));
+  view = view.substr(0, view.find('/'));
+  try {
+    std::string source = pipeline.get_view(view).spec().source();
+    const v1::Status status = pipeline.status();
+    for (const auto& s : status.sources()) {
+      if (!source.empty() && s.name() != source) continue;
+      if (s.connected() || s.last_frame_age_s() >= 0) return GST_RTSP_STS_OK;
+      if (refusals.admit(peer_ip(ctx->conn))) {  // rate-limited per host, as the 401s
+        std::cerr << "omniviewd: rtsp: DESCRIBE /" << view << " answered 503: source '" << s.name()
+                  << "' has sent no images yet" << (s.message().empty() ? "" : " (" + s.message() + ")") << std::endl;
+      }
+      return GST_RTSP_STS_SERVICE_UNAVAILABLE;
+    }
+  } catch (const std::exception&) {
+    // No such view (the library answers 404), or the daemon stopping.
+  }
+  return GST_RTSP_STS_OK;
 }
 
 // The library looks a request's session id up before any check and ties the session to

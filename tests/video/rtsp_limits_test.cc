@@ -410,5 +410,28 @@ TEST(RtspLimits, EveryRequestIsAuthenticatedOnItsOwnConnectionAndRefusalsAreLogg
   EXPECT_EQ(log.find(viewer), std::string::npos) << "a token in the log:\n" << log;
 }
 
+// A view whose source has sent nothing and is not connected (here a camera that is not
+// plugged in) answers DESCRIBE 503 at once, with the source's message in the log: its
+// media would wait 20 s for a first key frame on the thread that serves every client,
+// and the other clients with it (issue 29).
+TEST(RtspLimits, ADescribeOfASilentUnconnectedSourceIsAnsweredAtOnce) {
+  TempDir dir;
+  const int port = free_port();
+  DaemonProcess daemon(dir, "listen: 127.0.0.1:0\nsources:\n  - {name: air, type: insta360, device: /dev/omniview-test-absent}\n"
+                            "views:\n  - {name: front, type: perspective, width: 320, height: 240, frame: insta360}\n"
+                            "rtsp: {listen: 127.0.0.1:" + std::to_string(port) + "}\n");
+  RtspConnection a(port);
+  const auto start = Clock::now();
+  const std::string reply = a.request("DESCRIBE", "Accept: application/sdp\r\n");
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  EXPECT_EQ(status_of(reply), 503) << reply;
+  EXPECT_LT(seconds, 2.0 * test_time_scale()) << reply;
+  RtspConnection b(port);
+  EXPECT_EQ(status_of(b.request("OPTIONS")), 200);
+  ASSERT_TRUE(eventually([&] { return daemon.log().find("answered 503: source 'air' has sent no images yet") != std::string::npos; },
+                         2s))
+      << daemon.log();
+}
+
 }  // namespace
 }  // namespace omniview::testing
