@@ -43,6 +43,7 @@ timing_bound+="|H264Stream.AddsLessThanAFrameIntervalOfLatencyOverJpeg|H264Strea
 # A flood's memory coming back (RSS within 300 MB): ASan's quarantine keeps freed memory
 # (256 MB) and its shadow grows with every allocation, so only a release build measures it.
 timing_bound+="|RtspLimits.FloodsOfParallelDescribesAreCappedAndGiveTheirMemoryBack"
+timing_bound+="|RtspLimits.RtspsConnectionsStuckInTheirHandshakeGiveTheirMemoryBack"
 # A player's first picture within 2 s of joining: a latency of the release build (TSan's
 # slowdown under load made it 8.5 s).
 timing_bound+="|VideoPlayers.ANobufferPlayerShowsItsFirstPictureWithinASecondOrSo"

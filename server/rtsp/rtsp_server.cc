@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <thread>
@@ -87,6 +88,7 @@ struct ClientState {
   std::chrono::steady_clock::time_point idle_since = std::chrono::steady_clock::now();
   bool played = false;  // a PLAY of its own answered 200 (not a session id it merely named)
   std::set<std::string> own_sessions;  // ids of the sessions its SETUPs made
+  std::optional<std::chrono::steady_clock::time_point> shut_down;  // idle: its socket shut down then
 };
 
 struct RtspServer::Impl {
@@ -304,16 +306,22 @@ void RtspServer::Impl::close_idle_clients() {
         const auto now = std::chrono::steady_clock::now();
         if (playing) state->idle_since = now;
         if (now - state->idle_since <= std::chrono::seconds(m.config.idle_timeout_s)) return GST_RTSP_FILTER_KEEP;
-        // The socket shut down first: a connection still in its TLS handshake (a client that
-        // sent nothing, or half a ClientHello) has the handshake's read blocked on it in a
-        // GLib worker thread, which the library's close does not end; the socket then stayed,
-        // in CLOSE-WAIT for good once the peer left. A shutdown wakes that read (a close
-        // would not) and tells the peer; the close gives the file back.
-        if (GstRTSPConnection* conn = gst_rtsp_client_get_connection(client)) {
-          if (GSocket* socket = gst_rtsp_connection_get_read_socket(conn)) {
-            g_socket_shutdown(socket, TRUE, TRUE, nullptr);
-            g_socket_close(socket, nullptr);
+        // The socket is shut down, and the library closes the connection as when a peer
+        // leaves: its read (or a TLS handshake's, blocked in a GLib worker thread) fails.
+        // Closing it here instead ended the connection under a pending handshake, whose
+        // task then kept the TLS connection alive for good (2.3 MB each: GnuTLS loads the
+        // system's trust store per connection), and left the socket in CLOSE-WAIT. Should
+        // the library not notice within a few seconds, the connection is removed anyway.
+        if (!state->shut_down) {
+          state->shut_down = now;
+          if (GstRTSPConnection* conn = gst_rtsp_client_get_connection(client)) {
+            if (GSocket* socket = gst_rtsp_connection_get_read_socket(conn)) g_socket_shutdown(socket, TRUE, TRUE, nullptr);
           }
+          return GST_RTSP_FILTER_KEEP;
+        }
+        if (now - *state->shut_down < std::chrono::seconds(5)) return GST_RTSP_FILTER_KEEP;
+        if (GstRTSPConnection* conn = gst_rtsp_client_get_connection(client)) {
+          if (GSocket* socket = gst_rtsp_connection_get_read_socket(conn)) g_socket_close(socket, nullptr);
         }
         return GST_RTSP_FILTER_REMOVE;
       },
