@@ -5,6 +5,14 @@
 // the pane falls back to JPEG by itself when H.264 is not offered, not supported, or fails.
 import { H264Stream, h264Support } from './video.js';
 
+// A decoder that falls behind twice within this long cannot keep up at the pane's rate (a
+// busy machine, many panes): the pane asks for fewer frames instead of starting over at a
+// key frame again and again, each restart costing a key frame and a round trip (issue 29).
+const BEHIND_WINDOW_MS = 10000;
+const SLOWER = 0.6;           // each step down: 15 -> 9 -> 5 -> 3 Hz
+const MIN_RATE_HZ = 3;
+const STEP_UP_AFTER_MS = 30000;  // this long at a lower rate without falling behind: try higher
+
 export class Pane {
   constructor(container, link, view, options = {}) {
     this.link = link;
@@ -50,6 +58,9 @@ export class Pane {
 
   async start(rateHz) {
     this.rateHz = rateHz;
+    this.fullRateHz = rateHz;
+    this.behindTimes = [];   // when the decoder fell behind (resync), recent ones
+    this.rateChangedAt = 0;
     const support = this.forceJpeg ? { ok: false, reason: 'forced' } : await h264Support();
     if (!support.ok) return this.subscribe('JPEG', support.reason);
     try {
@@ -84,6 +95,15 @@ export class Pane {
   async resync() {
     if (this.resyncing || this.stopped || this.encoding !== 'H264') return;
     this.resyncing = true;
+    const now = performance.now();
+    this.behindTimes = this.behindTimes.filter((t) => now - t < BEHIND_WINDOW_MS);
+    this.behindTimes.push(now);
+    if (this.behindTimes.length >= 2 && this.rateHz > MIN_RATE_HZ) {
+      this.rateHz = Math.max(MIN_RATE_HZ, Math.round(this.rateHz * SLOWER));
+      this.rateChangedAt = now;
+      this.behindTimes = [];
+      console.warn('H.264 of', this.view, 'decoded too slowly: asking for', this.rateHz, 'Hz');
+    }
     const old = this.channel;
     this.channel = null;
     if (old !== null) this.link.unsubscribe(old).catch(() => {});
@@ -117,9 +137,23 @@ export class Pane {
     if (channel !== null) await this.link.unsubscribe(channel).catch(() => {});
   }
 
-  // The encoding in use, for the status line: "H264", or "JPEG (why not H.264)".
+  // Kept up at a lowered rate for a while: one step back up (resubscribing costs a key
+  // frame, so at most once per STEP_UP_AFTER_MS).
+  maybeStepUp() {
+    if (this.rateHz >= this.fullRateHz || this.resyncing || this.encoding !== 'H264') return;
+    const now = performance.now();
+    if (now - this.rateChangedAt < STEP_UP_AFTER_MS || this.behindTimes.some((t) => now - t < STEP_UP_AFTER_MS)) return;
+    this.rateHz = Math.min(this.fullRateHz, Math.round(this.rateHz / SLOWER));
+    this.rateChangedAt = now;
+    this.resync();
+    this.behindTimes = [];  // that resync was ours, not the decoder's
+  }
+
+  // The encoding in use, for the status line: "H264", "H264 at 9 Hz (decoder behind)", or
+  // "JPEG (why not H.264)".
   encodingLabel() {
     if (!this.encoding) return '…';
+    if (this.encoding === 'H264' && this.rateHz < this.fullRateHz) return `H264 at ${this.rateHz} Hz (decoder behind)`;
     if (this.encoding !== 'JPEG' || !this.fallback) return this.encoding;
     // A short reason: the status line must fit a phone (the whole one is in the console log).
     const why = this.fallback.length > 48 ? this.fallback.slice(0, 47) + '…' : this.fallback;
@@ -128,6 +162,7 @@ export class Pane {
 
   onPicture(frame) {
     if (this.stopped) return frame.close();
+    this.maybeStepUp();
     // A view of an odd side is coded one pixel larger (its edge repeated): the frame's
     // header says the view's own size.
     const h = this.header;

@@ -173,6 +173,37 @@ class ConsoleBrowserTest(unittest.TestCase):
             seconds(5), "a picture drawn")
         self.assertEqual((rect["iw"], rect["ih"]), (321, 161))
 
+    def test_a_decoder_that_cannot_keep_up_gets_fewer_frames_not_restarts(self):
+        # A busy machine decodes slower than the view's 15 Hz: each picture here takes the
+        # browser 150 ms (at most ~6.7 a second). The pane used to start its stream over at
+        # a key frame whenever four frames waited, about twice a second for good (issue 29,
+        # the paper layout's churn); it now asks for fewer frames and stays subscribed.
+        driver = self.open(OPERATOR_TOKEN, "?layout=single&view=front")
+        self.wait_live(driver)
+        support = driver.execute_async_script(
+            "import('./js/video.js').then(m => m.h264Support()).then(arguments[0], e => arguments[0]({ok: false, reason: String(e)}))")
+        if not support["ok"]:
+            self.skipTest(f"this Chromium decodes no H.264: {support}")
+        wait_until(lambda: self.encoding(driver) == "H264", seconds(5), "H.264")
+        driver.execute_script("""
+            const p = omniviewConsole.panes[0], show = p.onPicture.bind(p), subscribe = p.link.subscribe.bind(p.link);
+            window.subscriptions = 0;
+            window.pictures = 0;
+            p.link.subscribe = (...a) => { window.subscriptions++; return subscribe(...a); };
+            p.onPicture = (f) => { const t = performance.now(); while (performance.now() - t < 150) {} window.pictures++; show(f); };""")
+        time.sleep(10)
+        subscriptions, pictures = driver.execute_script("return [window.subscriptions, window.pictures]")
+        time.sleep(8)
+        later, later_pictures = driver.execute_script("return [window.subscriptions, window.pictures]")
+        rate = driver.execute_script("return omniviewConsole.panes[0].rateHz")
+        status = driver.find_element(By.ID, "status").text
+        print(f"slow decoder: {subscriptions} subscriptions in 10 s, {later - subscriptions} in the next 8 s, "
+              f"{(later_pictures - pictures) / 8:.1f} pictures/s at {rate} Hz; status: {status}", file=sys.stderr)
+        self.assertLessEqual(later - subscriptions, 1, "the stream keeps starting over")
+        self.assertLess(rate, 15)
+        self.assertGreater(later_pictures - pictures, 8, "pictures keep coming")
+        self.assertIn("decoder behind", status)
+
     def test_jpeg_forced_by_the_url(self):
         driver = self.open(OPERATOR_TOKEN, "?layout=single&view=front&encoding=jpeg")
         self.wait_live(driver)
