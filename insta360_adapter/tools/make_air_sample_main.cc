@@ -2,9 +2,11 @@
 // mounted as config/insta360.yaml says would stream of a synthetic scene, through the
 // built-in nominal calibration, as the Air's 3008 x 1504 dual-fisheye MJPEG frames.
 //
-// The scene is the sphere the config's panorama view projects onto, with the golden
-// tests' texture: the daemon's panorama of this recording must equal that texture (the
-// done-when test, tests/insta360/air_daemon_test.cc, checks it by PSNR).
+// The scene is the furnished room spot-mock shows (synthetic::Scene::room(): walls, tiled
+// floor, two columns, two cabinets), the Air 1 m above the floor as the config mounts it,
+// so the sample's panorama looks like a place. The daemon's panorama of this recording
+// must match the room ray-cast from the panorama's own centre (the done-when test,
+// tests/insta360/air_daemon_test.cc, checks it by PSNR).
 //
 //   omniview_make_air_sample [--config config/insta360.yaml] [--out DIR] [--frames N] [--quality Q]
 #include <filesystem>
@@ -22,7 +24,7 @@ using namespace omniview;
 int main(int argc, char** argv) {
   std::string config_file = std::string(OMNIVIEW_SOURCE_DIR) + "/config/insta360.yaml";
   std::string out = std::string(OMNIVIEW_SOURCE_DIR) + "/config/insta360/sample";
-  int frames = 4, quality = 70, supersample = 2;
+  int frames = 3, quality = 70, supersample = 2;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--config") config_file = v;
@@ -42,13 +44,10 @@ int main(int argc, char** argv) {
     // The recording does not exist yet: nothing is opened.
     const auto settings = insta360::read_capture_settings(sc, "insta360", [] { return nullptr; });
     const Rig& rig = *settings.calibration;
-    const ViewSpec* panorama = nullptr;
-    for (const auto& v : config.views) {
-      if (v.name == "panorama") panorama = &v;
-    }
-    if (!panorama) throw std::runtime_error(config_file + " has no view 'panorama'");
+    // The room's floor is z = 0 of the rig's own frame (base_link), where the mount puts
+    // the camera 1 m up.
     const std::string world = rig.default_frame();
-    const auto scene = synthetic::Scene::matching(*panorama, rig.frames().lookup(world, panorama->frame));
+    const auto scene = synthetic::Scene::room();
     cv::Mat frame = cv::Mat::zeros(settings.frame_size, CV_8UC3);
     for (const auto& crop : settings.crops) {
       size_t index = 0;
