@@ -54,7 +54,16 @@ TEST_F(SpotMockImages, FiveRotatedPinholesInSpotsFrameTree) {
   bosdyn::api::ListImageSourcesResponse response;
   ASSERT_TRUE(stub()->ListImageSources(spot_context(token_).get(), {}, &response).ok());
   EXPECT_EQ(response.header().error().code(), bosdyn::api::CommonError::CODE_OK);
-  ASSERT_EQ(response.image_sources_size(), 5);
+  ASSERT_EQ(response.image_sources_size(), 10) << "five cameras, then their depth";
+  for (int i = 5; i < 10; ++i) {
+    const auto& d = response.image_sources(i);
+    EXPECT_EQ(d.name(), mock_cameras()[i - 5].mount_frame + "_depth_in_visual_frame");
+    EXPECT_EQ(d.image_type(), bosdyn::api::ImageSource::IMAGE_TYPE_DEPTH);
+    EXPECT_EQ(d.depth_scale(), 1000);
+    ASSERT_EQ(d.pixel_formats_size(), 1);
+    EXPECT_EQ(d.pixel_formats(0), Image::PIXEL_FORMAT_DEPTH_U16);
+    EXPECT_EQ(d.pinhole().DebugString(), response.image_sources(i - 5).pinhole().DebugString()) << "registered to it";
+  }
   for (int i = 0; i < 5; ++i) {
     const auto& s = response.image_sources(i);
     EXPECT_EQ(s.name(), mock_cameras()[i].source);
@@ -139,6 +148,61 @@ TEST_F(SpotMockImages, RawPixelsAreTheSceneSeenThroughTheReportedCalibration) {
     EXPECT_LT(total / compared, 0.6) << r.source().name();
     EXPECT_GT(close, compared * 98 / 100) << r.source().name();  // a few straddle the wall's edge
   }
+}
+
+// A camera and its depth in one call, as a depth view asks: one acquisition time, the
+// depth registered to the picture, and each depth pixel (mm along the optical axis) the
+// scene's surface where the picture's ray meets it, up to the stereo range (4 m).
+TEST_F(SpotMockImages, DepthInTheVisualFrameIsTheScenesDistanceAlongEachPixelsRay) {
+  const synthetic::Scene scene = spot_mock::make_scene(spot_mock::SceneKind::kTest);
+  const auto& cam = mock_cameras()[0];
+  const auto response =
+      get({image_request(cam.source, Image::FORMAT_RAW), image_request(cam.mount_frame + "_depth_in_visual_frame",
+                                                                       Image::FORMAT_RAW, Image::PIXEL_FORMAT_DEPTH_U16)});
+  ASSERT_EQ(response.image_responses_size(), 2);
+  const auto& picture = response.image_responses(0);
+  const auto& depth = response.image_responses(1);
+  ASSERT_EQ(depth.status(), ImageResponse::STATUS_OK);
+  EXPECT_EQ(depth.shot().acquisition_time().DebugString(), picture.shot().acquisition_time().DebugString());
+  EXPECT_EQ(depth.shot().frame_name_image_sensor(), picture.shot().frame_name_image_sensor());
+  const auto& image = depth.shot().image();
+  ASSERT_EQ(image.pixel_format(), Image::PIXEL_FORMAT_DEPTH_U16);
+  ASSERT_EQ(image.format(), Image::FORMAT_RAW);
+  ASSERT_EQ(image.cols(), 640);
+  ASSERT_EQ(image.rows(), 480);
+  ASSERT_EQ(image.data().size(), 640u * 480u * 2);
+  const auto& k = depth.source().pinhole().intrinsics();
+  const double scale = depth.source().depth_scale();
+  const Pose T_vision_cam =
+      to_frame_graph(depth.shot().transforms_snapshot()).lookup("vision", depth.shot().frame_name_image_sensor());
+  const auto* bytes = reinterpret_cast<const uint8_t*>(image.data().data());
+  size_t measured = 0, agree = 0, beyond = 0;
+  for (int v = 2; v < 480; v += 8) {
+    for (int u = 2; u < 640; u += 8) {
+      const size_t at = 2 * (static_cast<size_t>(v) * 640 + u);
+      const double z = (bytes[at] | bytes[at + 1] << 8) / scale;  // little-endian
+      const Vec3 ray((u - k.principal_point().x()) / k.focal_length().x(),
+                     (v - k.principal_point().y()) / k.focal_length().y(), 1);
+      const auto hit = scene.intersect(T_vision_cam.translation(), T_vision_cam.linear() * ray);
+      const double truth = hit ? (T_vision_cam.inverse() * hit->point).z() : 0;
+      if (z == 0) {
+        beyond += !hit || truth > 3.99;
+        continue;
+      }
+      ++measured;
+      agree += std::abs(z - truth) <= 0.001;  // within the millimetre the format holds
+    }
+  }
+  EXPECT_GT(measured, 1000u);
+  EXPECT_EQ(agree, measured) << "depth pixels off the scene";
+  EXPECT_GT(beyond, 0u) << "pixels beyond 4 m or of nothing read 0";
+
+  // A depth source gives RAW DEPTH_U16 only, as Spot's do.
+  const auto jpeg = get({image_request(cam.mount_frame + "_depth_in_visual_frame", Image::FORMAT_JPEG)});
+  EXPECT_EQ(jpeg.image_responses(0).status(), ImageResponse::STATUS_UNSUPPORTED_IMAGE_FORMAT_REQUESTED);
+  const auto grey = get({image_request(cam.mount_frame + "_depth_in_visual_frame", Image::FORMAT_RAW,
+                                       Image::PIXEL_FORMAT_GREYSCALE_U8)});
+  EXPECT_EQ(grey.image_responses(0).status(), ImageResponse::STATUS_UNSUPPORTED_PIXEL_FORMAT_REQUESTED);
 }
 
 TEST_F(SpotMockImages, JpegDecodesToTheSamePictureAtTheRequestedQuality) {

@@ -74,7 +74,7 @@ TEST(SpotMockProgram, ColourRobotOwnLoginAndCleanShutdown) {
 
   bosdyn::api::ListImageSourcesResponse sources;
   ASSERT_TRUE(stub->ListImageSources(spot_context(token).get(), {}, &sources).ok());
-  ASSERT_EQ(sources.image_sources_size(), 5);
+  ASSERT_EQ(sources.image_sources_size(), 10) << "five cameras and their depth";
   EXPECT_EQ(sources.image_sources(0).pixel_formats(0), Image::PIXEL_FORMAT_RGB_U8);
 
   bosdyn::api::GetImageRequest request;
@@ -107,6 +107,7 @@ std::vector<std::string> raw_pictures(const SpotMockProcess& mock) {
   EXPECT_TRUE(stub->ListImageSources(spot_context(token).get(), {}, &sources).ok());
   bosdyn::api::GetImageRequest request;
   for (const auto& source : sources.image_sources()) {
+    if (source.image_type() != bosdyn::api::ImageSource::IMAGE_TYPE_VISUAL) continue;  // the depth sources
     auto* r = request.add_image_requests();
     r->set_image_source_name(source.name());
     r->set_image_format(Image::FORMAT_RAW);

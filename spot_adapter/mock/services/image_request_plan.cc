@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "spot_adapter/mock/services/image_sources.h"
 #include "spot_adapter/mock/world/mock_scene.h"
 
 namespace omniview::spot_mock {
@@ -11,11 +12,31 @@ namespace {
 using bosdyn::api::Image;
 using bosdyn::api::ImageResponse;
 
-std::optional<size_t> find_camera(const std::string& source) {
+std::optional<size_t> find_camera(const std::string& source, bool& depth) {
   for (size_t i = 0; i < mock_cameras().size(); ++i) {
-    if (mock_cameras()[i].source == source) return i;
+    depth = source == depth_source_name(mock_cameras()[i]);
+    if (mock_cameras()[i].source == source || depth) return i;
   }
   return std::nullopt;
+}
+
+// A depth source's answer: RAW DEPTH_U16, or the status Spot gives for anything else.
+void plan_depth(const bosdyn::api::ImageRequest& request, ImagePlan& plan) {
+  if (request.image_format() != Image::FORMAT_UNKNOWN && request.image_format() != Image::FORMAT_RAW) {
+    plan.status = ImageResponse::STATUS_UNSUPPORTED_IMAGE_FORMAT_REQUESTED;
+    return;
+  }
+  bool depth_format = request.pixel_format() == Image::PIXEL_FORMAT_UNKNOWN ||
+                      request.pixel_format() == Image::PIXEL_FORMAT_DEPTH_U16;
+  for (int i = 0; i < request.fallback_formats_size(); ++i) {
+    depth_format = depth_format || request.fallback_formats(i) == Image::PIXEL_FORMAT_DEPTH_U16;
+  }
+  if (!depth_format) {
+    plan.status = ImageResponse::STATUS_UNSUPPORTED_PIXEL_FORMAT_REQUESTED;
+    return;
+  }
+  plan.encoding = Encoding::kRaw;
+  plan.pixel_format = Image::PIXEL_FORMAT_DEPTH_U16;
 }
 
 // The format the robot delivers for `wanted`, if it can.
@@ -36,13 +57,17 @@ int jpeg_quality(double percent) {
 
 ImagePlan plan_image(const bosdyn::api::ImageRequest& request, bool colour_robot) {
   ImagePlan plan;
-  plan.camera = find_camera(request.image_source_name());
+  plan.camera = find_camera(request.image_source_name(), plan.depth);
   if (!plan.camera) {
     plan.status = ImageResponse::STATUS_UNKNOWN_CAMERA;
     return plan;
   }
   if (request.resize_ratio() != 0 && request.resize_ratio() != 1) {  // NaN too
     plan.status = ImageResponse::STATUS_UNSUPPORTED_RESIZE_RATIO_REQUESTED;
+    return plan;
+  }
+  if (plan.depth) {
+    plan_depth(request, plan);
     return plan;
   }
   switch (request.image_format()) {

@@ -28,6 +28,7 @@ void corrupt(std::string& bytes) {
 ImageService::ImageService(MockRobot& robot) : robot_(robot) {
   for (size_t i = 0; i < mock_cameras().size(); ++i) {
     sources_.push_back(describe_source(mock_cameras()[i], robot.rig.cameras().at(i), robot.cameras.colour()));
+    depth_sources_.push_back(describe_depth_source(mock_cameras()[i], robot.rig.cameras().at(i)));
   }
 }
 
@@ -39,6 +40,7 @@ grpc::Status ImageService::ListImageSources(grpc::ServerContext* ctx, const bosd
   robot_.counters.increment(&CounterValues::list_image_sources_calls);
   fill_response_header(request->header(), received, response->mutable_header());
   for (const auto& s : sources_) *response->add_image_sources() = s;
+  for (const auto& s : depth_sources_) *response->add_image_sources() = s;
   *response->mutable_transforms_snapshot() = mock_frame_tree_snapshot();
   return grpc::Status::OK;
 }
@@ -76,7 +78,7 @@ void ImageService::answer(const bosdyn::api::ImageRequest& request, const google
                           const FaultSettings& faults, ImageResponse* response) {
   const ImagePlan plan = plan_image(request, robot_.cameras.colour());
   response->set_status(plan.status);
-  if (plan.camera) *response->mutable_source() = sources_[*plan.camera];
+  if (plan.camera) *response->mutable_source() = plan.depth ? depth_sources_[*plan.camera] : sources_[*plan.camera];
   if (plan.status != ImageResponse::STATUS_OK) return;
   if (chance(faults.image_error_probability)) {
     response->set_status(ImageResponse::STATUS_IMAGE_DATA_ERROR);
@@ -92,7 +94,7 @@ void ImageService::answer(const bosdyn::api::ImageRequest& request, const google
 
   Image* image = shot->mutable_image();
   const bool grey = plan.pixel_format == Image::PIXEL_FORMAT_GREYSCALE_U8;
-  std::string bytes = robot_.cameras.encoded(cam, plan.encoding, grey, plan.quality);
+  std::string bytes = plan.depth ? robot_.depths.raw(cam) : robot_.cameras.encoded(cam, plan.encoding, grey, plan.quality);
   if (chance(faults.corrupt_probability)) corrupt(bytes);
   image->set_data(std::move(bytes));
   image->set_format(plan.encoding == Encoding::kJpeg ? Image::FORMAT_JPEG : Image::FORMAT_RAW);

@@ -21,7 +21,8 @@ class ImageService final : public bosdyn::api::ImageService::Service {
               const FaultSettings& faults, bosdyn::api::ImageResponse* response);
 
   MockRobot& robot_;
-  std::vector<bosdyn::api::ImageSource> sources_;  // in mock_cameras() order
+  std::vector<bosdyn::api::ImageSource> sources_;        // the five cameras, in mock_cameras() order
+  std::vector<bosdyn::api::ImageSource> depth_sources_;  // and their depth, in the same order
 };
 
 }  // namespace omniview::spot_mock

@@ -8,6 +8,7 @@
 
 #include "core/rig/rig.h"
 #include "spot_adapter/mock/auth/token_store.h"
+#include "spot_adapter/mock/sensors/camera_depth.h"
 #include "spot_adapter/mock/sensors/camera_images.h"
 #include "spot_adapter/mock/sensors/lidar_scan.h"
 #include "spot_adapter/mock/state/counters.h"
@@ -33,6 +34,7 @@ struct MockRobot {
 
   const Rig rig;  // mock_rig(): the cameras' intrinsics
   CameraImages cameras;
+  CameraDepths depths;  // rendered on first request
   const LidarScan lidar;
   TokenStore tokens;
   Faults faults;

@@ -1,0 +1,51 @@
+#include "spot_adapter/mock/sensors/camera_depth.h"
+
+#include <cmath>
+#include <cstring>
+
+#include <opencv2/core/utility.hpp>
+
+#include "core/camera/camera_model.h"
+
+namespace omniview::spot_mock {
+
+cv::Mat render_depth_mm(const synthetic::Scene& scene, const Rig& rig, size_t index, const std::string& world_frame,
+                        double range_m) {
+  const Camera& cam = rig.cameras().at(index);
+  const Pose T_world_cam = rig.camera_pose(world_frame, index);
+  cv::Mat out(cam.height, cam.width, CV_16UC1, cv::Scalar(0));
+  cv::parallel_for_(cv::Range(0, cam.height), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      for (int u = 0; u < cam.width; ++u) {
+        Vec3 ray;  // in the camera's optical frame (z forward)
+        if (!unproject(cam.model, Vec2(u, v), ray) || ray.z() <= 0) continue;
+        const auto hit = scene.intersect(T_world_cam.translation(), T_world_cam.linear() * ray);
+        if (!hit) continue;
+        const double z = (T_world_cam.inverse() * hit->point).z();  // along the optical axis
+        if (!(z > 0) || z > range_m) continue;
+        out.at<uint16_t>(v, u) = static_cast<uint16_t>(std::lround(z * kDepthScale));
+      }
+    }
+  });
+  return out;
+}
+
+const std::string& CameraDepths::raw(size_t camera) {
+  std::call_once(rendered_, [&] {
+    const synthetic::Scene scene = make_scene(scene_);
+    for (size_t i = 0; i < rig_.cameras().size(); ++i) {
+      const cv::Mat depth = render_depth_mm(scene, rig_, i, kWorldFrame);
+      std::string bytes(depth.total() * 2, '\0');
+      const uint16_t* values = depth.ptr<uint16_t>();  // continuous: just made
+      for (size_t p = 0; p < depth.total(); ++p) {  // little-endian on any host
+        const uint16_t d = values[p];
+        bytes[2 * p] = static_cast<char>(d & 0xff);
+        bytes[2 * p + 1] = static_cast<char>(d >> 8);
+      }
+      raw_.push_back(std::move(bytes));
+    }
+  });
+  return raw_.at(camera);
+}
+
+}  // namespace omniview::spot_mock

@@ -1,0 +1,44 @@
+// The body cameras' depth images, as Spot's `<camera>_depth_in_visual_frame` sources give
+// them: registered to the visual camera (same size, intrinsics and pose), each pixel the
+// distance along the optical axis in millimetres (PIXEL_FORMAT_DEPTH_U16, little-endian,
+// depth_scale 1000), 0 where nothing was measured: beyond the stereo cameras' range, or
+// nothing there. Rendered from the same scene as the pictures and the lidar, so the three
+// agree; on first request only (most clients never ask, and ray casting is the mock's
+// start-up cost).
+#pragma once
+
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <opencv2/core/mat.hpp>
+
+#include "core/rig/rig.h"
+#include "spot_adapter/mock/world/mock_scene.h"
+
+namespace omniview::spot_mock {
+
+inline constexpr double kDepthScale = 1000;   // raw value per metre (mm)
+inline constexpr double kDepthRangeM = 4.0;   // Spot's body stereo cameras see about 4 m
+
+// Camera `index` of `rig`'s depth (CV_16UC1, mm along its optical axis), the scene in
+// `world_frame`; 0 beyond `range_m` or where the ray hits nothing.
+cv::Mat render_depth_mm(const synthetic::Scene& scene, const Rig& rig, size_t index, const std::string& world_frame,
+                        double range_m = kDepthRangeM);
+
+class CameraDepths {
+ public:
+  CameraDepths(SceneKind scene, const Rig& rig) : scene_(scene), rig_(rig) {}
+
+  // Camera `camera`'s depth image as the wire carries it: rows of little-endian uint16.
+  // Thread-safe; the reference stays valid for the object's lifetime.
+  const std::string& raw(size_t camera);
+
+ private:
+  SceneKind scene_;
+  const Rig& rig_;
+  std::once_flag rendered_;
+  std::vector<std::string> raw_;
+};
+
+}  // namespace omniview::spot_mock
