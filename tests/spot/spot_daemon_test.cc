@@ -368,9 +368,18 @@ TEST(SpotSource, PullsOnlyTheCamerasWatchedViewsNeed) {
   const grpc::Status shot = snapshot(*stub, "sky", sky);
   ASSERT_TRUE(shot.ok()) << shot.error_message();
   EXPECT_EQ(sky.coverage(), 0);
-  // Nobody watches any more: the pulling stops.
-  std::this_thread::sleep_for(500ms);
-  const double calls = mock_control(mock, "--counters").at("get_image_calls");
+  // Nobody watches any more: the pulling stops (calls in flight and a loaded machine may
+  // take a moment), and stays stopped.
+  double calls = -1;
+  ASSERT_TRUE(eventually(
+      [&] {
+        const double before = mock_control(mock, "--counters").at("get_image_calls");
+        std::this_thread::sleep_for(400ms);
+        calls = mock_control(mock, "--counters").at("get_image_calls");
+        return calls == before;
+      },
+      10s))
+      << "images still pulled with nobody watching";
   std::this_thread::sleep_for(1s);
   EXPECT_EQ(mock_control(mock, "--counters").at("get_image_calls"), calls);
 }
