@@ -87,7 +87,7 @@ void OmniviewService::release_stream(const std::string& peer) {
 
 grpc::Status OmniviewService::ListCameras(grpc::ServerContext* ctx, const v1::ListCamerasRequest* req,
                                           v1::ListCamerasResponse* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     for (auto& c : pipeline_.cameras(req->source())) *resp->add_cameras() = std::move(c);
@@ -96,7 +96,7 @@ grpc::Status OmniviewService::ListCameras(grpc::ServerContext* ctx, const v1::Li
 }
 
 grpc::Status OmniviewService::CreateView(grpc::ServerContext* ctx, const v1::CreateViewRequest* req, v1::View* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     if (!req->spec().has_name() || req->spec().name().empty()) {
@@ -108,7 +108,7 @@ grpc::Status OmniviewService::CreateView(grpc::ServerContext* ctx, const v1::Cre
 }
 
 grpc::Status OmniviewService::GetView(grpc::ServerContext* ctx, const v1::GetViewRequest* req, v1::View* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     *resp = pipeline_.get_view(req->name());
@@ -118,7 +118,7 @@ grpc::Status OmniviewService::GetView(grpc::ServerContext* ctx, const v1::GetVie
 
 grpc::Status OmniviewService::ListViews(grpc::ServerContext* ctx, const v1::ListViewsRequest*,
                                         v1::ListViewsResponse* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   return guarded([&] {
     for (auto& v : pipeline_.list_views()) *resp->add_views() = std::move(v);
     return grpc::Status::OK;
@@ -126,7 +126,7 @@ grpc::Status OmniviewService::ListViews(grpc::ServerContext* ctx, const v1::List
 }
 
 grpc::Status OmniviewService::UpdateView(grpc::ServerContext* ctx, const v1::UpdateViewRequest* req, v1::View* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     *resp = pipeline_.update_view(req->name(), req->set(), req->delta());
@@ -136,7 +136,7 @@ grpc::Status OmniviewService::UpdateView(grpc::ServerContext* ctx, const v1::Upd
 
 grpc::Status OmniviewService::DeleteView(grpc::ServerContext* ctx, const v1::DeleteViewRequest* req,
                                          v1::DeleteViewResponse*) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     pipeline_.delete_view(req->name());
@@ -146,7 +146,7 @@ grpc::Status OmniviewService::DeleteView(grpc::ServerContext* ctx, const v1::Del
 
 grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::StreamFramesRequest* req,
                                            grpc::ServerWriter<v1::Frame>* writer) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     const EncodingKey key = encoding_key(req->encoding(), req->quality(), req->gray(), req->max_bitrate_kbps());
@@ -196,7 +196,7 @@ grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::S
 }
 
 grpc::Status OmniviewService::GetSnapshot(grpc::ServerContext* ctx, const v1::SnapshotRequest* req, v1::Frame* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     if (req->encoding() == v1::H264) {
@@ -237,7 +237,7 @@ grpc::Status OmniviewService::GetSnapshot(grpc::ServerContext* ctx, const v1::Sn
 
 grpc::Status OmniviewService::PixelToRay(grpc::ServerContext* ctx, const v1::PixelToRayRequest* req,
                                          v1::PixelToRayResponse* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     // Pixel centres are at integers, so the image spans [-0.5, W - 0.5]; a click outside it
@@ -257,7 +257,7 @@ grpc::Status OmniviewService::PixelToRay(grpc::ServerContext* ctx, const v1::Pix
 
 grpc::Status OmniviewService::PointToPixel(grpc::ServerContext* ctx, const v1::PointToPixelRequest* req,
                                            v1::PointToPixelResponse* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     *resp = pipeline_.point_to_pixel(req->view(), from_proto(req->point()), req->frame());
@@ -266,7 +266,7 @@ grpc::Status OmniviewService::PointToPixel(grpc::ServerContext* ctx, const v1::P
 }
 
 grpc::Status OmniviewService::GetStatus(grpc::ServerContext* ctx, const v1::GetStatusRequest*, v1::Status* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   return guarded([&] {
     *resp = pipeline_.status();
     return grpc::Status::OK;
@@ -275,7 +275,7 @@ grpc::Status OmniviewService::GetStatus(grpc::ServerContext* ctx, const v1::GetS
 
 grpc::Status OmniviewService::SetJointPositions(grpc::ServerContext* ctx, const v1::SetJointPositionsRequest* req,
                                                 v1::JointPositions* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kOperator);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     const JointMap positions(req->positions().begin(), req->positions().end());
@@ -286,7 +286,7 @@ grpc::Status OmniviewService::SetJointPositions(grpc::ServerContext* ctx, const 
 
 grpc::Status OmniviewService::GetJointPositions(grpc::ServerContext* ctx, const v1::GetJointPositionsRequest* req,
                                                 v1::JointPositions* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     *resp = pipeline_.joint_positions(req->source());
@@ -296,7 +296,7 @@ grpc::Status OmniviewService::GetJointPositions(grpc::ServerContext* ctx, const 
 
 grpc::Status OmniviewService::StreamSourceFrames(grpc::ServerContext* ctx, const v1::StreamSourceFramesRequest* req,
                                                  grpc::ServerWriter<v1::SourceFrame>* writer) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     ctx->AddInitialMetadata("omniview-stream-limits",

@@ -23,7 +23,7 @@ struct CloudUnsubscribe {
 
 grpc::Status OmniviewService::StreamClouds(grpc::ServerContext* ctx, const v1::StreamCloudsRequest* req,
                                            grpc::ServerWriter<v1::PointCloud>* writer) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     CloudRequest request = cloud_request_from_proto(req->options());
@@ -53,7 +53,7 @@ grpc::Status OmniviewService::StreamClouds(grpc::ServerContext* ctx, const v1::S
 
 grpc::Status OmniviewService::GetCloud(grpc::ServerContext* ctx, const v1::GetCloudRequest* req,
                                        v1::PointCloud* resp) {
-  OMNIVIEW_AUTHORIZE(ctx, Role::kViewer);
+  OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     const int timeout_ms = req->timeout_ms() > 0 ? req->timeout_ms() : 5000;

@@ -8,6 +8,7 @@
 #include <grpcpp/support/status.h>
 
 #include "server/api/request_bounds.h"
+#include "server/auth/permissions.h"
 #include "server/pipeline/api_error.h"
 
 namespace omniview::service_support {
@@ -37,10 +38,12 @@ grpc::Status guarded(F&& body) {
   }
 }
 
-#define OMNIVIEW_AUTHORIZE(ctx, role)                          \
-  do {                                                         \
-    const grpc::Status auth_status = auth_.check(*(ctx), role); \
-    if (!auth_status.ok()) return auth_status;                 \
+// The role the RPC needs comes from the one table (server/auth/permissions.h), by the
+// handler's own name: a handler cannot say a role of its own.
+#define OMNIVIEW_AUTHORIZE(ctx)                                                                    \
+  do {                                                                                             \
+    const grpc::Status auth_status = auth_.check(*(ctx), ::omniview::permissions::rpc_role(__func__)); \
+    if (!auth_status.ok()) return auth_status;                                                     \
   } while (0)
 
 // After authorization: every field of the request within its bounds (request_bounds.h).

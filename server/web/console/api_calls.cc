@@ -2,6 +2,7 @@
 
 #include <grpcpp/server_context.h>
 
+#include "server/auth/permissions.h"
 #include "server/web/json/json.h"
 
 namespace omniview::web {
@@ -33,19 +34,19 @@ std::function<ApiCalls::Result(const std::string&)> unary(
 
 ApiCalls::ApiCalls(Pipeline& pipeline, const Limits& limits) : open_({}), service_(pipeline, open_, limits) {
   using S = OmniviewService;
-  methods_ = {
-      {"ListCameras", {Role::kViewer, unary(service_, &S::ListCameras)}},
-      {"ListViews", {Role::kViewer, unary(service_, &S::ListViews)}},
-      {"GetView", {Role::kViewer, unary(service_, &S::GetView)}},
-      {"PixelToRay", {Role::kViewer, unary(service_, &S::PixelToRay)}},
-      {"PointToPixel", {Role::kViewer, unary(service_, &S::PointToPixel)}},
-      {"GetStatus", {Role::kViewer, unary(service_, &S::GetStatus)}},
-      {"GetJointPositions", {Role::kViewer, unary(service_, &S::GetJointPositions)}},
-      {"CreateView", {Role::kOperator, unary(service_, &S::CreateView)}},
-      {"UpdateView", {Role::kOperator, unary(service_, &S::UpdateView)}},
-      {"DeleteView", {Role::kOperator, unary(service_, &S::DeleteView)}},
-      {"SetJointPositions", {Role::kOperator, unary(service_, &S::SetJointPositions)}},
-  };
+  // Each with the RPC's own role (server/auth/permissions.h).
+  const auto add = [this](const char* name, auto run) { methods_[name] = {permissions::rpc_role(name), run}; };
+  add("ListCameras", unary(service_, &S::ListCameras));
+  add("ListViews", unary(service_, &S::ListViews));
+  add("GetView", unary(service_, &S::GetView));
+  add("PixelToRay", unary(service_, &S::PixelToRay));
+  add("PointToPixel", unary(service_, &S::PointToPixel));
+  add("GetStatus", unary(service_, &S::GetStatus));
+  add("GetJointPositions", unary(service_, &S::GetJointPositions));
+  add("CreateView", unary(service_, &S::CreateView));
+  add("UpdateView", unary(service_, &S::UpdateView));
+  add("DeleteView", unary(service_, &S::DeleteView));
+  add("SetJointPositions", unary(service_, &S::SetJointPositions));
 }
 
 std::optional<Role> ApiCalls::role_of(const std::string& method) const {

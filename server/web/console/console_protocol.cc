@@ -5,6 +5,7 @@
 #include <boost/asio/post.hpp>
 
 #include "server/api/request_bounds.h"
+#include "server/auth/permissions.h"
 #include "server/pipeline/cloud/cloud_request.h"
 #include "server/pipeline/frame_encoder.h"
 #include "server/web/stream/frame_message.h"
@@ -29,7 +30,11 @@ std::function<void(const AnySubscriber&)> ended_notice(std::weak_ptr<Connection>
   };
 }
 
-const char* const kOps = "auth, call, subscribe, subscribe_cloud, unsubscribe";
+const std::string kOps = [] {
+  std::string list;
+  for (const char* op : kConsoleOps) list += (list.empty() ? "" : ", ") + std::string(op);
+  return list;
+}();
 
 std::string number_text(double v) {
   std::ostringstream out;
@@ -104,13 +109,21 @@ void ConsoleProtocol::on_message(std::string_view data, bool binary) {
 
 void ConsoleProtocol::handle(const json::Value& message, std::optional<int64_t> id) {
   const auto op = json::string_field(message, "op");
-  if (!op) throw std::invalid_argument(std::string("no 'op' (one of: ") + kOps + ")");
+  if (!op) throw std::invalid_argument("no 'op' (one of: " + kOps + ")");
   if (*op == "auth") return authenticate(message, id);
   if (!caller_) {
     if (context_.auth.enabled()) {
       return fail(id, grpc::StatusCode::UNAUTHENTICATED, "send {\"op\": \"auth\", \"token\": ...} first");
     }
     caller_ = Caller{Role::kOperator, ""};
+  }
+  // Each op's role from the one table (server/auth/permissions.h); `call` checks the called
+  // RPC's role besides.
+  if (const auto needed = permissions::role_for("console:" + *op); needed && !role_allows(caller_->role, *needed)) {
+    const std::string why = "'" + *op + "' needs the " + to_string(*needed) + " role; this connection's token is a " +
+                            to_string(caller_->role) + " token";
+    context_.refused(peer_, why);
+    return fail(id, grpc::StatusCode::PERMISSION_DENIED, why);
   }
   if (*op == "call") return call(message, id);
   if (*op == "subscribe") return subscribe(message, id);

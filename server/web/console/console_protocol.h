@@ -18,6 +18,8 @@
 namespace omniview::web {
 
 inline constexpr char kConsoleSubprotocol[] = "omniview.console.v1";
+// The ops a console message may name, each in server/auth/permissions.h as "console:OP".
+inline constexpr const char* kConsoleOps[] = {"auth", "call", "subscribe", "subscribe_cloud", "unsubscribe"};
 
 class ConsoleProtocol : public Protocol {
  public:
