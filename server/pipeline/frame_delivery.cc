@@ -72,6 +72,7 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
   const double latency_ms = std::chrono::duration<double, std::milli>(offered - rendered.arrival).count();
   frame->set_latency_ms(latency_ms);
   SharedFrame shared = std::move(frame);
+  if (video != nullptr && shared->key_frame()) video->keep_key_frame(shared);
   for (auto& s : subscribers) s->offer(shared, offered);
   if (!rendered.stale && !rendered.counted.exchange(true)) view.record_frame(latency_ms, offered);
 }

@@ -107,4 +107,15 @@ video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point ar
   return au;
 }
 
+void VideoStream::keep_key_frame(SharedFrame frame) {
+  std::lock_guard lock(key_frame_mutex_);
+  last_key_frame_ = std::move(frame);
+  last_key_frame_at_ = Clock::now();
+}
+
+std::pair<SharedFrame, VideoStream::Clock::time_point> VideoStream::last_key_frame() const {
+  std::lock_guard lock(key_frame_mutex_);
+  return {last_key_frame_, last_key_frame_at_};
+}
+
 }  // namespace omniview

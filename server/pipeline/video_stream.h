@@ -15,6 +15,7 @@
 #include <memory>
 #include <mutex>
 #include <opencv2/core/mat.hpp>
+#include <utility>
 
 #include "server/pipeline/subscriber.h"
 #include "server/video/h264_encoder.h"
@@ -64,6 +65,13 @@ class VideoStream {
   video::AccessUnit encode(const cv::Mat& image, Clock::time_point arrival, double view_fps = 0,
                            uint64_t revision = 0);
 
+  // The group's newest key frame, as sent, and when it was made: a new client that must
+  // start at a key frame before it plays (RTSP's DESCRIBE wants the SPS/PPS for its SDP)
+  // takes it at once instead of waiting up to kMinKeyInterval for the next one, on the
+  // thread that serves every RTSP client. Encoder thread sets, any thread reads.
+  void keep_key_frame(SharedFrame frame);
+  std::pair<SharedFrame, Clock::time_point> last_key_frame() const;
+
  private:
   const EncodingKey key_;
   std::atomic<bool> key_wanted_{true};
@@ -78,6 +86,9 @@ class VideoStream {
   int intervals_ = 0;
   double mean_interval_s_ = 0;
   cv::Mat grey_;
+  mutable std::mutex key_frame_mutex_;
+  SharedFrame last_key_frame_;
+  Clock::time_point last_key_frame_at_{};
 };
 
 // H264 quality 1..100 (0: default) -> x264's constant rate factor: CRF = 51 - quality / 2,

@@ -6,6 +6,13 @@
 #include "server/pipeline/video_stream.h"
 
 namespace omniview {
+namespace {
+
+// A cached key frame younger than this prerolls a new client's media (older: the next one
+// is waited for, at most VideoStream::kMinKeyInterval away once the new client asks).
+constexpr auto kCachedKeyFrameAge = std::chrono::seconds(2);
+
+}  // namespace
 
 RtspFeed::RtspFeed(Pipeline& pipeline, const std::string& view, const EncodingKey& key, double rate_hz,
                    GstElement* appsrc)
@@ -25,6 +32,9 @@ RtspFeed::RtspFeed(Pipeline& pipeline, const std::string& view, const EncodingKe
 
 RtspFeed::~RtspFeed() {
   stop_ = true;
+  // Wakes the feed's wait for a frame at once: this runs on the thread that serves every
+  // RTSP client, which would otherwise wait out the poll for each client that leaves.
+  subscriber_->close(grpc::StatusCode::CANCELLED, "the RTSP client left");
   if (thread_.joinable()) thread_.join();
   pipeline_.unsubscribe(view_, subscriber_.get());
   gst_object_unref(appsrc_);
@@ -64,6 +74,23 @@ bool RtspFeed::wanted(const v1::Frame& frame) {
 
 void RtspFeed::run() {
   GstAppSrc* src = GST_APP_SRC(appsrc_);
+  const auto push = [&](const v1::Frame& frame) {
+    const std::string& data = frame.data();
+    GstBuffer* buffer = gst_buffer_new_memdup(data.data(), data.size());
+    if (!frame.key_frame()) GST_BUFFER_FLAG_SET(buffer, GST_BUFFER_FLAG_DELTA_UNIT);
+    // Timestamps: appsrc stamps each buffer with the running time it arrives at (live).
+    return gst_app_src_push_buffer(src, buffer) == GST_FLOW_OK;
+  };
+  // The DESCRIBE waiting on the server's thread needs a key frame: the group's newest, if
+  // recent, serves at once (the client gets a fresh one from PLAY on anyway).
+  if (const auto& video = subscriber_->video()) {
+    const auto [cached, made] = video->last_key_frame();
+    if (cached && VideoStream::Clock::now() - made < kCachedKeyFrameAge && subscriber_->hand_over(*cached) &&
+        wanted(*cached) && !push(*cached)) {
+      gst_app_src_end_of_stream(src);
+      return;
+    }
+  }
   while (!stop_) {
     const auto frame = subscriber_->take(std::chrono::milliseconds(100));
     if (!frame) continue;
@@ -71,11 +98,7 @@ void RtspFeed::run() {
     // The view's revision first (it counts what reaches the client), then what this client
     // can use now (a media that prerolled must not take a frame the revision check drops).
     if (!subscriber_->hand_over(**frame) || !wanted(**frame)) continue;
-    const std::string& data = (*frame)->data();
-    GstBuffer* buffer = gst_buffer_new_memdup(data.data(), data.size());
-    if (!(*frame)->key_frame()) GST_BUFFER_FLAG_SET(buffer, GST_BUFFER_FLAG_DELTA_UNIT);
-    // Timestamps: appsrc stamps each buffer with the running time it arrives at (live).
-    if (gst_app_src_push_buffer(src, buffer) != GST_FLOW_OK) break;  // the media is going away
+    if (!push(**frame)) break;  // the media is going away
   }
   gst_app_src_end_of_stream(src);
 }

@@ -310,8 +310,7 @@ void RtspServer::Impl::close_idle_clients() {
         // leaves: its read (or a TLS handshake's, blocked in a GLib worker thread) fails.
         // Closing it here instead ended the connection under a pending handshake, whose
         // task then kept the TLS connection alive for good (2.3 MB each: GnuTLS loads the
-        // system's trust store per connection), and left the socket in CLOSE-WAIT. Should
-        // the library not notice within a few seconds, the connection is removed anyway.
+        // system's trust store per connection), and left the socket in CLOSE-WAIT.
         if (!state->shut_down) {
           state->shut_down = now;
           if (GstRTSPConnection* conn = gst_rtsp_client_get_connection(client)) {
@@ -319,7 +318,9 @@ void RtspServer::Impl::close_idle_clients() {
           }
           return GST_RTSP_FILTER_KEEP;
         }
-        if (now - *state->shut_down < std::chrono::seconds(5)) return GST_RTSP_FILTER_KEEP;
+        // The next sweep: a handshake woken by the shutdown has failed by now, so removing
+        // the client no longer strands it (the library does not always let go by itself).
+        if (now - *state->shut_down < std::chrono::milliseconds(kIdleSweepMs / 2)) return GST_RTSP_FILTER_KEEP;
         if (GstRTSPConnection* conn = gst_rtsp_client_get_connection(client)) {
           if (GSocket* socket = gst_rtsp_connection_get_read_socket(conn)) g_socket_close(socket, nullptr);
         }
