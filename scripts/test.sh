@@ -44,6 +44,8 @@ timing_bound+="|H264Stream.AddsLessThanAFrameIntervalOfLatencyOverJpeg|H264Strea
 # (256 MB) and its shadow grows with every allocation, so only a release build measures it.
 timing_bound+="|RtspLimits.FloodsOfParallelDescribesAreCappedAndGiveTheirMemoryBack"
 timing_bound+="|RtspLimits.RtspsConnectionsStuckInTheirHandshakeGiveTheirMemoryBack"
+# A DESCRIBE of a streaming view within 150 ms (it takes the view's newest key frame).
+timing_bound+="|RtspLimits.JoiningAStreamingViewNeedsNoNewKeyFrame"
 # A player's first picture within 2 s of joining: a latency of the release build (TSan's
 # slowdown under load made it 8.5 s).
 timing_bound+="|VideoPlayers.ANobufferPlayerShowsItsFirstPictureWithinASecondOrSo"

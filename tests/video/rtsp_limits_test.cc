@@ -13,6 +13,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -455,6 +456,33 @@ TEST(RtspLimits, ADescribeOfASilentUnconnectedSourceIsAnsweredAtOnce) {
   ASSERT_TRUE(eventually([&] { return daemon.log().find("answered 503: source 'air' has sent no images yet") != std::string::npos; },
                          2s))
       << daemon.log();
+}
+
+// Clients joining a view that is already streaming: each DESCRIBE takes the view's newest
+// key frame for its SDP instead of waiting for a new one (at most one every 250 ms), on the
+// thread that serves every RTSP client. A burst of 500 such DESCRIBEs stalled the port for
+// minutes (fresh-clone probe of issue 33). Release tree only: a latency.
+TEST(RtspLimits, JoiningAStreamingViewNeedsNoNewKeyFrame) {
+  TempDir dir;
+  const int port = free_port();
+  DaemonProcess daemon(dir, example_config(15, kViews + "rtsp: {listen: 127.0.0.1:" + std::to_string(port) + "}\n"));
+  RtspConnection a(port);  // plays throughout
+  ASSERT_EQ(status_of(a.request("DESCRIBE", "Accept: application/sdp\r\n")), 200);
+  const std::string setup = a.request("SETUP", "Transport: RTP/AVP/TCP;unicast;interleaved=0-1\r\n", "/stream=0");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(setup, m, std::regex("Session: *([^;\r\n]+)"))) << setup;
+  ASSERT_EQ(status_of(a.request("PLAY", "Session: " + m[1].str() + "\r\n")), 200);
+  std::this_thread::sleep_for(500ms);
+  std::vector<double> ms;
+  for (int i = 0; i < 12; ++i) {
+    RtspConnection b(port);
+    const auto start = Clock::now();
+    ASSERT_EQ(status_of(b.request("DESCRIBE", "Accept: application/sdp\r\n")), 200);
+    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  std::cout << "DESCRIBE of a streaming view: median " << ms[ms.size() / 2] << " ms, max " << ms.back() << " ms\n";
+  EXPECT_LT(ms[ms.size() / 2], 150.0) << "each DESCRIBE waited for a key frame of its own";
 }
 
 }  // namespace
