@@ -137,6 +137,10 @@ bool Subscriber::hand_over(const v1::Frame& frame) {
     return false;
   }
   ++sent_;
+  // A player that probes the start of a stream and drops what it probed (ffplay -fflags
+  // nobuffer) used up the stream's first key frame: a second comes a quarter second later
+  // (the group's kMinKeyInterval) rather than with the periodic one 10 s later (issue 29).
+  if (video_ && frame.key_frame() && ++key_frames_sent_ == 1) video_->request_key_frame();
   return true;
 }
 

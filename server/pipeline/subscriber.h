@@ -95,6 +95,7 @@ class Subscriber {
   bool offer_video(const SharedFrame& frame);
   void lose_video_frame();
 
+  uint64_t key_frames_sent_ = 0;  // under mutex_
   const std::string peer_;
   const EncodingKey key_;
   const double max_rate_hz_;
