@@ -15,6 +15,7 @@
 #include "cli/client/command_support.h"
 #include "cli/client/connection.h"
 #include "cli/client/frame_files.h"
+#include "cli/client/stall_reporter.h"
 
 namespace omniview::cli {
 namespace {
@@ -71,7 +72,10 @@ int stream_to_stdout(const Args& args, int wanted) {
   bool reader_gone = false;
   StaleNotice stale(request.view());
   const bool video = request.encoding() == v1::H264;
+  // No frame for a while (a robot away, a camera unplugged): why, on stderr, once a second.
+  StallReporter stall(connection, request.view(), [](const std::string& why) { std::cerr << "waiting: " << why << "\n"; });
   while ((wanted == 0 || written < wanted) && reader->Read(&frame)) {
+    stall.frame_arrived();
     // The player keeps showing the last picture; a video stream's frames are all needed
     // (each is coded against the one before), stale or not.
     if (stale.check(frame) && !video) continue;
@@ -139,7 +143,9 @@ int stream_command(const std::vector<std::string>& argv) {
   uint64_t offset = 0;
   const std::string stream_name = "stream.h264";
   StaleNotice stale(request.view());
+  StallReporter stall(connection, request.view(), [](const std::string& why) { std::cerr << "waiting: " << why << "\n"; });
   while (written < wanted && reader->Read(&frame)) {
+    stall.frame_arrived();
     // Not a new image; but a video stream needs every frame, and counts it.
     if (stale.check(frame) && !video) continue;
     if (written == 0) {  // only now: a wrong view name or a refused call leaves nothing behind

@@ -2,6 +2,8 @@
 // key; SIGTERM ends every stream with a status and the process exits cleanly; health.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <csignal>
 #include <condition_variable>
 #include <future>
@@ -203,6 +205,20 @@ std::string health_check(const std::string& address, const std::string& service)
   std::string bytes;
   for (const auto& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
   return bytes;
+}
+
+// A stream of a view whose source sends nothing (a camera not plugged in) says why on
+// stderr while it waits, instead of hanging silently (fresh-clone probe of issue 29).
+TEST(Lifecycle, StreamSaysWhyWhileNoFrameComes) {
+  TempDir dir;
+  DaemonProcess daemon(dir, "listen: 127.0.0.1:0\nsources:\n  - {name: air, type: insta360, device: /dev/omniview-test-absent}\n"
+                            "views:\n  - {name: front, type: perspective, width: 160, height: 80, frame: insta360}\n");
+  const auto seconds = std::to_string(static_cast<int>(std::ceil(5 * test_time_scale())));
+  // The frames (none) to /dev/null, stderr to what run_process reads.
+  const auto r = run_process("(timeout " + seconds + " " + std::string(OMNIVIEW_CLI) + " --server " + daemon.address() +
+                             " stream front -o - 2>&1 > /dev/null)");
+  EXPECT_NE(r.output.find("waiting: no frames for"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("source 'air' is not connected"), std::string::npos) << r.output;
 }
 
 TEST(Lifecycle, HealthServiceAnswersServing) {
