@@ -31,11 +31,13 @@ class SpotMockImages : public SharedMockTest {
     SharedMockTest::SetUp();
     token_ = mock().login();
   }
-  bosdyn::api::GetImageResponse get(const std::vector<bosdyn::api::ImageRequest>& requests) {
+  // `deadline`: a camera's first depth image is ray-cast on request (seconds under ASan).
+  bosdyn::api::GetImageResponse get(const std::vector<bosdyn::api::ImageRequest>& requests,
+                                    std::chrono::milliseconds deadline = std::chrono::seconds(10)) {
     bosdyn::api::GetImageRequest request;
     for (const auto& r : requests) *request.add_image_requests() = r;
     bosdyn::api::GetImageResponse response;
-    const grpc::Status status = stub()->GetImage(spot_context(token_).get(), request, &response);
+    const grpc::Status status = stub()->GetImage(spot_context(token_, deadline).get(), request, &response);
     EXPECT_TRUE(status.ok()) << status.error_message();
     return response;
   }
@@ -158,7 +160,8 @@ TEST_F(SpotMockImages, DepthInTheVisualFrameIsTheScenesDistanceAlongEachPixelsRa
   const auto& cam = mock_cameras()[0];
   const auto response =
       get({image_request(cam.source, Image::FORMAT_RAW), image_request(cam.mount_frame + "_depth_in_visual_frame",
-                                                                       Image::FORMAT_RAW, Image::PIXEL_FORMAT_DEPTH_U16)});
+                                                                       Image::FORMAT_RAW, Image::PIXEL_FORMAT_DEPTH_U16)},
+          std::chrono::seconds(60));
   ASSERT_EQ(response.image_responses_size(), 2);
   const auto& picture = response.image_responses(0);
   const auto& depth = response.image_responses(1);

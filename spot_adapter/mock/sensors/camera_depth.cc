@@ -31,21 +31,19 @@ cv::Mat render_depth_mm(const synthetic::Scene& scene, const Rig& rig, size_t in
 }
 
 const std::string& CameraDepths::raw(size_t camera) {
-  std::call_once(rendered_, [&] {
-    const synthetic::Scene scene = make_scene(scene_);
-    for (size_t i = 0; i < rig_.cameras().size(); ++i) {
-      const cv::Mat depth = render_depth_mm(scene, rig_, i, kWorldFrame);
-      std::string bytes(depth.total() * 2, '\0');
-      const uint16_t* values = depth.ptr<uint16_t>();  // continuous: just made
-      for (size_t p = 0; p < depth.total(); ++p) {  // little-endian on any host
-        const uint16_t d = values[p];
-        bytes[2 * p] = static_cast<char>(d & 0xff);
-        bytes[2 * p + 1] = static_cast<char>(d >> 8);
-      }
-      raw_.push_back(std::move(bytes));
+  std::lock_guard lock(mutex_);
+  if (!rendered_.at(camera)) {
+    const cv::Mat depth = render_depth_mm(make_scene(scene_), rig_, camera, kWorldFrame);
+    std::string bytes(depth.total() * 2, '\0');
+    const uint16_t* values = depth.ptr<uint16_t>();  // continuous: just made
+    for (size_t p = 0; p < depth.total(); ++p) {  // little-endian on any host
+      bytes[2 * p] = static_cast<char>(values[p] & 0xff);
+      bytes[2 * p + 1] = static_cast<char>(values[p] >> 8);
     }
-  });
-  return raw_.at(camera);
+    raw_[camera] = std::move(bytes);
+    rendered_[camera] = true;
+  }
+  return raw_[camera];
 }
 
 }  // namespace omniview::spot_mock

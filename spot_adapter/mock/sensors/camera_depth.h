@@ -3,8 +3,8 @@
 // distance along the optical axis in millimetres (PIXEL_FORMAT_DEPTH_U16, little-endian,
 // depth_scale 1000), 0 where nothing was measured: beyond the stereo cameras' range, or
 // nothing there. Rendered from the same scene as the pictures and the lidar, so the three
-// agree; on first request only (most clients never ask, and ray casting is the mock's
-// start-up cost).
+// agree; each camera's on its first request only (most clients never ask, and ray casting
+// is the mock's start-up cost: a camera takes seconds under the sanitizers).
 #pragma once
 
 #include <mutex>
@@ -28,7 +28,8 @@ cv::Mat render_depth_mm(const synthetic::Scene& scene, const Rig& rig, size_t in
 
 class CameraDepths {
  public:
-  CameraDepths(SceneKind scene, const Rig& rig) : scene_(scene), rig_(rig) {}
+  CameraDepths(SceneKind scene, const Rig& rig)
+      : scene_(scene), rig_(rig), raw_(rig.cameras().size()), rendered_(rig.cameras().size(), false) {}
 
   // Camera `camera`'s depth image as the wire carries it: rows of little-endian uint16.
   // Thread-safe; the reference stays valid for the object's lifetime.
@@ -37,8 +38,9 @@ class CameraDepths {
  private:
   SceneKind scene_;
   const Rig& rig_;
-  std::once_flag rendered_;
-  std::vector<std::string> raw_;
+  std::mutex mutex_;  // one render at a time: a mock's depth clients are few
+  std::vector<std::string> raw_;  // sized once: references to its strings stay valid
+  std::vector<bool> rendered_;
 };
 
 }  // namespace omniview::spot_mock
