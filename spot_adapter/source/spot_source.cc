@@ -37,6 +37,8 @@ constexpr auto kHoldLastImage = milliseconds(1000);
 constexpr auto kConnectedWindow = milliseconds(1000);
 // The failure rate's memory: each call's outcome weighs 1/20 (about the last 20 calls).
 constexpr double kFailureRateWeight = 1.0 / 20;
+// ... and how long it stands without new calls.
+constexpr auto kFailureRateMemory = std::chrono::seconds(3);
 
 }  // namespace
 
@@ -135,13 +137,21 @@ std::shared_ptr<const PointCloud> SpotSource::next_cloud() {
 }
 
 void SpotSource::count_outcome(bool failed) {
+  // After a pause in pulling (nobody watched) the rate starts afresh: it says how the
+  // robot answers now, not before the pause.
+  if (Clock::now() - last_outcome_ > kFailureRateMemory) failure_rate_ = 0;
+  last_outcome_ = Clock::now();
   failure_rate_ += kFailureRateWeight * ((failed ? 1.0 : 0.0) - failure_rate_);
   health_.failure_rate = failure_rate_;
 }
 
 SourceHealth SpotSource::health() const {
   std::lock_guard lock(mutex_);
-  return health_;
+  SourceHealth h = health_;
+  // Nothing pulled lately: no recent call failed (a stale rate would read "degraded" while
+  // nobody watches).
+  if (Clock::now() - last_outcome_ > kFailureRateMemory) h.failure_rate = 0;
+  return h;
 }
 
 std::vector<size_t> SpotSource::wanted_slots() const {

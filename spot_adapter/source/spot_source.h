@@ -86,6 +86,7 @@ class SpotSource : public Source {
   // ~20: the failure rate GetStatus shows. Under mutex_ (health_ reads it).
   void count_outcome(bool failed);
   double failure_rate_ = 0;
+  std::chrono::steady_clock::time_point last_outcome_;  // of the last counted call
   // The last frame set delivered, or failed call the robot answered: the robot counts as
   // connected while they keep coming within kConnectedWindow (then "degraded", not "NO").
   std::chrono::steady_clock::time_point last_answer_;
