@@ -29,6 +29,10 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# Node and npm: tests/export reads exported MCAP files with Foxglove's own reader
+# (@mcap/core, installed by the test into a cache). Any node >= 18 will do: Debian's
+# nodejs + npm, or one already installed otherwise (NodeSource's bundles npm).
+command -v node > /dev/null && command -v npm > /dev/null || missing+=(nodejs npm)
 [ ${#missing[@]} -eq 0 ] && exit 0
 
 echo "installing: ${missing[*]}"

@@ -173,6 +173,20 @@ TEST_F(Export, OurReaderFindsEveryTopicWithAMessagePerFrameSet) {
   // Log time = publish time = the message's own timestamp.
   for (const auto& msg : m.messages) {
     EXPECT_EQ(msg.log_time, msg.publish_time);
+    if (m.channels.at(msg.channel).topic == "/cloud") {
+      // The wall ahead, coloured from the cameras: red, green, blue at 12, 13, 14 of 20 bytes.
+      foxglove::PointCloud cloud;
+      ASSERT_TRUE(cloud.ParseFromString(msg.data));
+      ASSERT_EQ(cloud.point_stride(), 20u);
+      ASSERT_EQ(cloud.fields(3).name(), "red");
+      size_t coloured = 0, points = cloud.data().size() / 20;
+      for (size_t i = 0; i < points; ++i) {
+        const char* p = cloud.data().data() + i * 20;
+        coloured += (p[12] | p[13] | p[14]) != 0;
+      }
+      EXPECT_EQ(points, 1600u);
+      EXPECT_GT(coloured, points / 2) << "of the wall's points, coloured from the cameras";
+    }
     if (m.channels.at(msg.channel).topic != "/views/front") continue;
     foxglove::CompressedVideo video;
     ASSERT_TRUE(video.ParseFromString(msg.data));
