@@ -134,6 +134,12 @@ class Reader {
     if (compression.empty()) {
       plain.assign(stored);
     } else if (compression == "zstd") {
+      // A frame that says its size must say the chunk's (checked before allocating).
+      const unsigned long long framed = ZSTD_getFrameContentSize(stored.data(), stored.size());
+      if (framed == ZSTD_CONTENTSIZE_ERROR) c.fail("its records are not zstd data");
+      if (framed != ZSTD_CONTENTSIZE_UNKNOWN && framed != size) {
+        c.fail("uncompressed size " + std::to_string(size) + " but its zstd frame holds " + std::to_string(framed));
+      }
       plain.resize(size);
       const size_t n = ZSTD_decompress(plain.data(), plain.size(), stored.data(), stored.size());
       if (ZSTD_isError(n)) c.fail(std::string("zstd: ") + ZSTD_getErrorName(n));

@@ -53,7 +53,7 @@ struct StatisticsInfo {
 
 struct ReadOptions {
   bool messages = true;                    // keep the messages' data (else only counted)
-  uint64_t max_chunk_bytes = 1ull << 30;   // a chunk that claims more is refused (not allocated)
+  uint64_t max_chunk_bytes = 256ull << 20;  // a chunk that claims more is refused (not allocated)
 };
 
 struct McapContents {
