@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+
+#include <opencv2/core/utility.hpp>
 #include <set>
 
 #include "core/cloud/colourer.h"
@@ -160,7 +163,7 @@ class Exporter {
       last_tf_ns_ = t;
     }
     if (options_.cameras) cameras(*rig, frame, images, encoded, t);
-    for (auto& v : views_) render(*v, images, t);
+    render_views(images, t);
     if (options_.clouds && !frame.cloud_file.empty()) cloud(rig, frame, images);
     if (frame.joints && !frame.joints->empty()) {
       out_->write("/joint_states", omniview::JointStates::descriptor(), t, joint_states(*frame.joints, t));
@@ -196,27 +199,34 @@ class Exporter {
     (void)frame;
   }
 
-  void render(ViewRender& v, const std::vector<cv::Mat>& images, uint64_t t) {
+  // A view's messages for one frame set, made apart from the writer so that views render
+  // side by side (one task per view; apply_map runs single-threaded when nested, as in the
+  // daemon's render worker).
+  struct Rendered {
+    const google::protobuf::Descriptor* type = nullptr;
+    std::string message, calibration;
+    bool skipped = false;  // an image it needs is missing from the frame set
+  };
+
+  Rendered render(ViewRender& v, const std::vector<cv::Mat>& images, uint64_t t) {
+    Rendered r;
     int channels = 1;
     for (size_t i = 0; i < v.map.camera_used.size(); ++i) {
       if (!v.map.camera_used[i]) continue;
       if (i >= images.size() || images[i].empty()) {
-        if (missing_.insert(v.spec.name).second) {
-          summary_.notes.push_back("view '" + v.spec.name + "': frame sets without an image of a camera it needs are skipped");
-        }
-        return;
+        r.skipped = true;
+        return r;
       }
       channels = std::max(channels, images[i].channels());
     }
     cv::Mat image;
     apply_map(v.map, images, image, channels, v.gains.update(v.map, images, channels));
-    const std::string topic = "/views/" + v.spec.name;
     const std::string optical = view_optical_frame(v.spec.name);
     if (options_.encoding == ViewEncoding::kJpeg) {
       const std::vector<uint8_t> jpeg = encode_jpeg(image, options_.quality);
-      out_->write(topic, foxglove::CompressedImage::descriptor(), t,
-                 compressed_image(optical, t, "jpeg",
-                                  std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size())));
+      r.type = foxglove::CompressedImage::descriptor();
+      r.message = compressed_image(optical, t, "jpeg",
+                                   std::string_view(reinterpret_cast<const char*>(jpeg.data()), jpeg.size()));
     } else {
       if (!v.encoder) {
         video::H264Settings settings;
@@ -231,11 +241,41 @@ class Exporter {
       const video::AccessUnit au = v.encoder->encode(image, static_cast<int64_t>(t / 1000000), key);
       if (au.key_frame) v.last_key_ns = t;
       if (!au.data.empty()) {
-        out_->write(topic, foxglove::CompressedVideo::descriptor(), t, compressed_video(optical, t, au.data));
+        r.type = foxglove::CompressedVideo::descriptor();
+        r.message = compressed_video(optical, t, au.data);
       }
     }
-    const std::string calibration = view_calibration(*v.view, optical, t);
-    if (!calibration.empty()) out_->write(topic + "/calibration", foxglove::CameraCalibration::descriptor(), t, calibration);
+    r.calibration = view_calibration(*v.view, optical, t);
+    return r;
+  }
+
+  void render_views(const std::vector<cv::Mat>& images, uint64_t t) {
+    std::vector<Rendered> rendered(views_.size());
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    cv::parallel_for_(cv::Range(0, static_cast<int>(views_.size())), [&](const cv::Range& range) {
+      for (int i = range.start; i < range.end; ++i) {
+        try {
+          rendered[i] = render(*views_[i], images, t);
+        } catch (...) {
+          std::lock_guard lock(failure_mutex);
+          if (!failure) failure = std::current_exception();
+        }
+      }
+    });
+    if (failure) std::rethrow_exception(failure);
+    for (size_t i = 0; i < views_.size(); ++i) {
+      const std::string topic = "/views/" + views_[i]->spec.name;
+      if (rendered[i].skipped && missing_.insert(views_[i]->spec.name).second) {
+        summary_.notes.push_back("view '" + views_[i]->spec.name +
+                                 "': frame sets without an image of a camera it needs are skipped");
+      }
+      if (!rendered[i].type) continue;
+      out_->write(topic, rendered[i].type, t, rendered[i].message);
+      if (!rendered[i].calibration.empty()) {
+        out_->write(topic + "/calibration", foxglove::CameraCalibration::descriptor(), t, rendered[i].calibration);
+      }
+    }
   }
 
   void cloud(const std::shared_ptr<const Rig>& rig, const RecordingFrame& frame, const std::vector<cv::Mat>& images) {
