@@ -168,5 +168,18 @@ TEST_F(McapTest, WritingToAFolderThatIsNotThereNamesThePath) {
   }
 }
 
+TEST_F(McapTest, AFullDiskIsAnErrorNamingTheFile) {
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+  try {
+    Writer w("/dev/full");
+    w.add_channel(0, "/x", "json");
+    for (int i = 0; i < 1000; ++i) w.write(1, i, i, std::string(1000, 'x'));
+    w.close();
+    FAIL() << "writing to a full disk went unnoticed";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot write '/dev/full'"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace omniview::mcap
