@@ -162,7 +162,7 @@ class Exporter {
       tf_rig_ = rig;
       last_tf_ns_ = t;
     }
-    if (options_.cameras) cameras(*rig, frame, images, encoded, t);
+    if (options_.cameras) cameras(*rig, images, encoded, t);
     render_views(images, t);
     if (options_.clouds && !frame.cloud_file.empty()) cloud(rig, frame, images);
     if (frame.joints && !frame.joints->empty()) {
@@ -170,7 +170,7 @@ class Exporter {
     }
   }
 
-  void cameras(const Rig& rig, const RecordingFrame& frame, const std::vector<cv::Mat>& images,
+  void cameras(const Rig& rig, const std::vector<cv::Mat>& images,
                const std::vector<EncodedImage>& encoded, uint64_t t) {
     for (size_t c = 0; c < rig.cameras().size() && c < images.size(); ++c) {
       if (images[c].empty()) continue;
@@ -196,7 +196,6 @@ class Exporter {
                                  " model has no Foxglove CameraCalibration equivalent)");
       }
     }
-    (void)frame;
   }
 
   // A view's messages for one frame set, made apart from the writer so that views render
