@@ -158,7 +158,11 @@ class Exporter {
     if (rig != tf_rig_ || t >= last_tf_ns_ + kSecond) {
       std::vector<PosedView> posed;
       for (const auto& v : views_) posed.push_back({v->spec.name, v->T_robot_view});
-      out_->write("/tf", foxglove::FrameTransforms::descriptor(), t, frame_transforms(*rig, posed, t));
+      // The first also covers a cloud taken just before its frame set's images, so that
+      // a viewer has the frames for every message from the start.
+      uint64_t tf_time = t;
+      if (!tf_rig_ && options_.clouds && !frame.cloud_file.empty()) tf_time = std::min(t, to_ns(frame.cloud_stamp));
+      out_->write("/tf", foxglove::FrameTransforms::descriptor(), tf_time, frame_transforms(*rig, posed, tf_time));
       tf_rig_ = rig;
       last_tf_ns_ = t;
     }
