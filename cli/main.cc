@@ -11,6 +11,7 @@
 #include "cli/client/client_commands.h"
 #include "cli/client/connection.h"
 #include "cli/colorize_command.h"
+#include "cli/export_command.h"
 #include "cli/render_command.h"
 #include "core/io/yaml_reader.h"
 
@@ -22,6 +23,7 @@ constexpr const char* kUsage = R"(usage: omniview COMMAND [options]
 commands:
   render    compute views offline from a rig and images (omniview render --help)
   colorize  colour a point cloud file offline from a rig and images (colorize --help)
+  export    a recording as an MCAP file for Foxglove and Lichtblick (export --help)
 
 talking to omniviewd:
   cameras   the cameras of the daemon's sources, with calibration and pose
@@ -52,7 +54,7 @@ const std::map<std::string, Command>& commands() {
       {"render", cli::render_command}, {"cameras", cli::cameras_command},   {"views", cli::views_command},
       {"ptz", cli::ptz_command},       {"snapshot", cli::snapshot_command}, {"watch", cli::watch_command},
       {"stream", cli::stream_command}, {"status", cli::status_command},     {"record", cli::record_command},
-      {"joints", cli::joints_command},  {"colorize", cli::colorize_command},
+      {"joints", cli::joints_command},  {"colorize", cli::colorize_command}, {"export", cli::export_command},
       {"show", cli::show_command},     {"cloud", cli::cloud_command}};
   return table;
 }

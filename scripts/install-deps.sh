@@ -12,6 +12,7 @@ packages=(
   liburdfdom-dev liburdfdom-headers-dev libassimp-dev libosmesa6-dev
   libturbojpeg0-dev libjpeg62-turbo-dev libpng-dev  # JPEG and PNG (core/io/image_codec, server/pipeline): not OpenCV imgcodecs, whose GDAL & co. slow every start
   libx264-dev      # H.264 streams (server/video)
+  libzstd-dev zlib1g-dev  # MCAP export (core/mcap): zstd chunks, CRC-32
   libavcodec-dev   # the video tests decode what the daemon sends (tests/video only)
   ffmpeg           # ffmpeg, ffprobe: the video tests read the CLI's H.264 pipe, RTSP and the Foxglove video channel as players do
   libgstrtspserver-1.0-dev libgstreamer-plugins-base1.0-dev  # RTSP (server/rtsp): the server library, appsrc
@@ -28,6 +29,10 @@ missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# Node and npm: tests/export reads exported MCAP files with Foxglove's own reader
+# (@mcap/core, installed by the test into a cache). Any node >= 18 will do: Debian's
+# nodejs + npm, or one already installed otherwise (NodeSource's bundles npm).
+command -v node > /dev/null && command -v npm > /dev/null || missing+=(nodejs npm)
 [ ${#missing[@]} -eq 0 ] && exit 0
 
 echo "installing: ${missing[*]}"

@@ -10,6 +10,7 @@
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 
 #include "core/rig/rig.h"
+#include "server/web/foxglove/foxglove_schema.h"
 
 namespace omniview::web::foxglove_io {
 
@@ -39,13 +40,6 @@ std::string base64(const std::string& in) {
     out += '=';
   }
   return out;
-}
-
-// Dependencies first, as a FileDescriptorSet reader builds its pool.
-void add_file(const pb::FileDescriptor* file, std::set<std::string>& seen, pb::FileDescriptorSet& set) {
-  if (!seen.insert(file->name()).second) return;
-  for (int i = 0; i < file->dependency_count(); ++i) add_file(file->dependency(i), seen, set);
-  file->CopyTo(set.add_file());
 }
 
 void put_le(std::string& out, uint64_t v, int bytes) {
@@ -107,10 +101,7 @@ uint64_t time_ns(const pb::Timestamp& t) {
 }
 
 std::string schema_base64(const pb::Descriptor* message_type) {
-  pb::FileDescriptorSet set;
-  std::set<std::string> seen;
-  add_file(message_type->file(), seen, set);
-  return base64(set.SerializeAsString());
+  return base64(foxglove_schema::descriptor_set(message_type));
 }
 
 OutMessage message_data(uint32_t subscription, uint64_t time, const std::string& prefix, int data_field,
