@@ -120,11 +120,6 @@ class Exporter {
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument("view '" + spec.name + "': " + e.what());
       }
-      if (options.encoding == ViewEncoding::kH264 && (spec.width % 2 || spec.height % 2)) {
-        throw std::invalid_argument("view '" + spec.name + "' is " + std::to_string(spec.width) + "x" +
-                                    std::to_string(spec.height) +
-                                    ": H.264 (4:2:0) needs an even width and height; give it one, or --encoding jpeg");
-      }
       views_.push_back(std::move(v));
     }
     // Every view checked against the first rig before any frame is written.
