@@ -1,0 +1,73 @@
+#include "core/depth/fallback_blend.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace omniview {
+
+BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& measured, const DepthOptions& options) {
+  const int w = rays.width, h = rays.height;
+  const size_t n = rays.size();
+  const int band = std::clamp(static_cast<int>(std::lround(options.blend_band_deg * M_PI / 180 / rays.pixel_rad)), 1,
+                              4096);
+  // City-block distance (in pixels, capped at `band`) to the nearest measured pixel and its
+  // inverse range, by two raster passes that carry both: O(pixels) whatever the band. The
+  // band's outline is a diamond rather than a circle, which nobody sees in a fade.
+  const uint16_t far = static_cast<uint16_t>(band);
+  std::vector<uint16_t> dist(n);
+  std::vector<float> inv(n);
+  for (size_t i = 0; i < n; ++i) {
+    const bool m = measured[i] > 0.f;
+    dist[i] = m ? 0 : far;
+    inv[i] = m ? 1.f / measured[i] : 0.f;
+  }
+  const auto take = [&](size_t i, size_t from) {
+    const uint16_t d = static_cast<uint16_t>(dist[from] + 1);
+    if (d < dist[i]) {
+      dist[i] = d;
+      inv[i] = inv[from];
+    }
+  };
+  for (int v = 0; v < h; ++v) {
+    const size_t row = size_t(v) * w;
+    for (int u = 0; u < w; ++u) {
+      const size_t i = row + u;
+      if (dist[i] == 0) continue;
+      if (u > 0) take(i, i - 1);
+      if (v > 0) take(i, i - w);
+    }
+  }
+  for (int v = h - 1; v >= 0; --v) {
+    const size_t row = size_t(v) * w;
+    for (int u = w - 1; u >= 0; --u) {
+      const size_t i = row + u;
+      if (dist[i] == 0) continue;
+      if (u + 1 < w) take(i, i + 1);
+      if (v + 1 < h) take(i, i + w);
+    }
+  }
+  BlendedSurface s;
+  s.range.resize(n);
+  s.measured.resize(n);
+  const float inv_band = 1.f / static_cast<float>(band);
+  for (size_t i = 0; i < n; ++i) {
+    const float fixed = rays.fixed_range[i];
+    if (dist[i] == 0) {
+      s.range[i] = measured[i];
+      s.measured[i] = 255;
+      ++s.measured_pixels;
+    } else if (dist[i] < far && fixed > 0.f) {
+      const float share = 1.f - static_cast<float>(dist[i]) * inv_band;
+      s.range[i] = 1.f / (share * inv[i] + (1.f - share) / fixed);
+      s.measured[i] = static_cast<uint8_t>(std::lround(255.f * share));
+      ++s.blended_pixels;
+    } else {
+      s.range[i] = fixed;  // 0 where the fixed surface has no point either
+      s.measured[i] = 0;
+    }
+  }
+  return s;
+}
+
+}  // namespace omniview

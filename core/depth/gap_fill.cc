@@ -1,0 +1,105 @@
+#include "core/depth/gap_fill.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <mutex>
+
+#include <opencv2/core/utility.hpp>
+
+#include "core/map/occlusion.h"
+
+namespace omniview {
+namespace {
+
+// Distance in pixels to the nearest sample strictly before each pixel along a line (0:
+// none within `reach`); `step` walks the line in memory.
+inline void nearest_before(const float* range, size_t step, int count, int reach, uint16_t* out, size_t out_step) {
+  int last = -reach - 1;
+  for (int k = 0; k < count; ++k) {
+    out[k * out_step] = static_cast<uint16_t>(k - last <= reach ? k - last : 0);
+    if (range[k * step] > 0.f) last = k;
+  }
+}
+
+inline void nearest_after(const float* range, size_t step, int count, int reach, uint16_t* out, size_t out_step) {
+  int next = count + reach + 1;
+  for (int k = count - 1; k >= 0; --k) {
+    out[k * out_step] = static_cast<uint16_t>(next - k <= reach ? next - k : 0);
+    if (range[k * step] > 0.f) next = k;
+  }
+}
+
+}  // namespace
+
+std::vector<float> fill_gaps(const ViewRays& rays, const std::vector<float>& range, const DepthOptions& options,
+                             DepthStats& stats) {
+  const int w = rays.width, h = rays.height;
+  const int reach = std::clamp(static_cast<int>(std::ceil(options.max_gap_deg * M_PI / 180 / rays.pixel_rad)), 1,
+                               std::min(30000, std::max(w, h)));
+  const size_t n = rays.size();
+  // Nearest samples left, right, up and down of each pixel.
+  std::vector<uint16_t> left(n), right(n), up(n), down(n);
+  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const size_t row = size_t(v) * w;
+      nearest_before(&range[row], 1, w, reach, &left[row], 1);
+      nearest_after(&range[row], 1, w, reach, &right[row], 1);
+    }
+  });
+  cv::parallel_for_(cv::Range(0, w), [&](const cv::Range& cols) {
+    for (int u = cols.start; u < cols.end; ++u) {
+      nearest_before(&range[u], w, h, reach, &up[u], w);
+      nearest_after(&range[u], w, h, reach, &down[u], w);
+    }
+  });
+  const float rel = static_cast<float>(options.max_step_rel), abs_m = static_cast<float>(options.max_step_m);
+  // The surface through samples a and b (pixel indices), at fraction t of the way from a:
+  // its range, or 0 when they are too far apart to be one surface.
+  const auto through = [&](size_t a, size_t b, float t) {
+    const float ra = range[a], rb = range[b];
+    const float dx = ra * rays.x[a] - rb * rays.x[b], dy = ra * rays.y[a] - rb * rays.y[b],
+                dz = ra * rays.z[a] - rb * rays.z[b];
+    const float limit = rel * std::min(ra, rb) + abs_m;
+    if (dx * dx + dy * dy + dz * dz > limit * limit) return 0.f;
+    return 1.f / ((1.f - t) / ra + t / rb);
+  };
+  std::vector<float> out(range);
+  size_t filled = 0, replaced = 0;
+  std::mutex counts;
+  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+    size_t my_filled = 0, my_replaced = 0;
+    for (int v = rows.start; v < rows.end; ++v) {
+      for (int u = 0; u < w; ++u) {
+        const size_t i = size_t(v) * w + u;
+        if (!rays.valid[i]) continue;
+        float best = 0.f;
+        const int l = left[i], r = right[i], a = up[i], b = down[i];
+        if (l && r && l + r <= reach) {
+          const float s = through(i - l, i + r, float(l) / float(l + r));
+          if (s > 0.f) best = s;
+        }
+        if (a && b && a + b <= reach) {
+          const float s = through(i - size_t(a) * w, i + size_t(b) * w, float(a) / float(a + b));
+          if (s > 0.f && (best == 0.f || s < best)) best = s;
+        }
+        if (best == 0.f) continue;
+        if (range[i] == 0.f) {
+          out[i] = best;
+          ++my_filled;
+        } else if (hidden_behind(range[i], best, rel, abs_m)) {
+          out[i] = best;
+          ++my_replaced;
+        }
+      }
+    }
+    std::lock_guard lock(counts);
+    filled += my_filled;
+    replaced += my_replaced;
+  });
+  stats.filled_pixels += filled;
+  stats.see_through += replaced;
+  return out;
+}
+
+}  // namespace omniview

@@ -1,0 +1,172 @@
+// The measured-depth surface piece by piece: splat, gap fill, fallback to the fixed
+// surface, bad points; and occlusion in the map builder.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/depth/camera_occluders.h"
+#include "core/depth/measured_depth_view.h"
+#include "core/map/fusion_map.h"
+
+namespace omniview {
+namespace {
+
+ViewSpec perspective(int w = 200, int h = 100) {
+  ViewSpec s;
+  s.name = "p";
+  s.type = ViewType::kPerspective;
+  s.width = w;
+  s.height = h;
+  s.hfov_deg = 90;
+  s.distance = 5;
+  s.depth = Depth::kMeasured;
+  return s;
+}
+
+// A wall x = d in the view frame sampled like a lidar at the view's centre: rings every
+// `ring_deg` of elevation within +-15 deg (a VLP-16's), a sample every 0.2 deg of azimuth.
+std::vector<Eigen::Vector3f> wall_rings(double d, double ring_deg, double y_min = -10, double y_max = 10) {
+  std::vector<Eigen::Vector3f> points;
+  for (double el = -15; el <= 15.01; el += ring_deg) {
+    for (double az = -50; az <= 50; az += 0.2) {
+      const double e = el * M_PI / 180, a = az * M_PI / 180;
+      const Vec3 dir(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+      const Vec3 p = dir * (d / dir.x());
+      if (p.y() >= y_min && p.y() <= y_max) points.push_back(p.cast<float>());
+    }
+  }
+  return points;
+}
+
+TEST(DepthSurface, WithoutPointsItIsTheFixedSurface) {
+  const ViewSpec spec = perspective();
+  const DepthSurface surface(spec);
+  const auto view = surface.update({}, Pose::Identity());
+  ViewSpec fixed_spec = spec;
+  fixed_spec.depth = Depth::kFixed;
+  const auto fixed = View::create(fixed_spec);
+  std::vector<float> x(spec.width), y(spec.width), z(spec.width), fx(spec.width), fy(spec.width), fz(spec.width);
+  std::vector<uint8_t> ok(spec.width), fok(spec.width);
+  for (int v = 0; v < spec.height; v += 7) {
+    view->row_points(v, x.data(), y.data(), z.data(), ok.data());
+    fixed->row_points(v, fx.data(), fy.data(), fz.data(), fok.data());
+    for (int u = 0; u < spec.width; ++u) {
+      ASSERT_EQ(ok[u], fok[u]);
+      EXPECT_NEAR(x[u], fx[u], 1e-4);
+      EXPECT_NEAR(y[u], fy[u], 1e-4);
+      EXPECT_NEAR(z[u], fz[u], 1e-4);
+    }
+  }
+  EXPECT_EQ(view->measured_fraction(), 0);
+}
+
+TEST(DepthSurface, RingsOnAWallAreJoinedAndNonFinitePointsCounted) {
+  const ViewSpec spec = perspective();
+  const DepthSurface surface(spec);
+  auto points = wall_rings(2.0, 2.0);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  points.push_back({nan, 0, 0});
+  points.push_back({1, inf, 0});
+  DepthStats stats;
+  const auto view = surface.update(points, Pose::Identity(), &stats);
+  EXPECT_EQ(stats.non_finite, 2u);
+  EXPECT_EQ(stats.points, points.size());
+  EXPECT_GT(stats.filled_pixels, stats.splatted_pixels);  // rings ~9 px apart in this view
+  // Between the rings the surface is the wall: x = 2 for every pixel within +-14 deg.
+  for (int v = 26; v < 74; ++v) {
+    for (int u = 40; u < 160; ++u) {
+      Vec3 p;
+      ASSERT_TRUE(view->pixel_to_point(u, v, p));
+      EXPECT_NEAR(p.x(), 2.0, 0.01) << u << "," << v;
+      EXPECT_EQ(view->measured_at(u, v), 255);
+    }
+  }
+}
+
+TEST(DepthSurface, AStepIsNotBridgedAndFarFromSamplesTheFixedSurfaceReturns) {
+  const ViewSpec spec = perspective();
+  const DepthSurface surface(spec);
+  // A near wall on the left half (x = 1.5, y > 0) and a far one on the right (x = 4, y < 0):
+  // the columns between their samples must not be filled with a surface across the step.
+  auto points = wall_rings(1.5, 2.0, 0.02, 10);
+  const auto far = wall_rings(4.0, 2.0, -10, -0.1);
+  points.insert(points.end(), far.begin(), far.end());
+  DepthStats stats;
+  const auto view = surface.update(points, Pose::Identity(), &stats);
+  for (int v = 30; v < 70; ++v) {
+    int unmeasured = 0;  // the columns between the two walls' last samples
+    for (int u = 0; u < spec.width; ++u) {
+      if (view->measured_at(u, v) != 255) {
+        ++unmeasured;
+        continue;
+      }
+      Vec3 p;
+      ASSERT_TRUE(view->pixel_to_point(u, v, p));
+      // Every measured point is on one wall or the other, never in between.
+      EXPECT_TRUE(std::abs(p.x() - 1.5) < 0.02 || std::abs(p.x() - 4.0) < 0.05) << u << "," << v << " x " << p.x();
+    }
+    EXPECT_LE(unmeasured, 4) << "row " << v;
+  }
+  // Above +15 deg elevation nothing was measured: the top row (26.6 deg) is the fixed plane
+  // at 5 m, and the band between blends without a jump.
+  Vec3 top;
+  ASSERT_TRUE(view->pixel_to_point(100, 0, top));
+  EXPECT_NEAR(top.x(), 5.0, 1e-3);
+  EXPECT_EQ(view->measured_at(100, 0), 0);
+  float previous = view->range_at(150, 50);
+  for (int v = 49; v >= 0; --v) {
+    const float r = view->range_at(150, v);
+    EXPECT_LT(std::abs(r - previous), 0.1f * previous) << "row " << v;  // a fade, no step
+    previous = r;
+  }
+}
+
+TEST(DepthSurface, MeasuredViewsAreRejectedWhereTheSpecIsInvalid) {
+  ViewSpec spec = perspective();
+  spec.hfov_deg = 0;
+  EXPECT_THROW(DepthSurface{spec}, std::invalid_argument);
+}
+
+// One camera looking along +x from the origin; a small box of points 1 m ahead hides the
+// wall behind it: the view's pixels on the wall behind the box are black, the rest not.
+TEST(DepthOcclusion, AHiddenSurfacePointIsBlackNotTheOccludersColour) {
+  Rig rig("base");
+  Camera cam;
+  cam.name = "cam";
+  cam.model = CameraModel(PinholeRadtan(200, 200, 199.5, 149.5));
+  cam.width = 400;
+  cam.height = 300;
+  cam.T_parent_cam = make_pose(Vec3(0, 0, 0), 0, 0, 0);
+  cam.T_parent_cam.linear() = cam.T_parent_cam.linear() * R_view_optical();
+  rig.add_camera(cam);
+  // The view stands 0.5 m to the left of the camera and sees the wall x = 4 past the box.
+  ViewSpec spec = perspective(100, 60);
+  spec.frame = "base";
+  spec.position = Vec3(0, 0.5, 0);
+  std::vector<Eigen::Vector3f> points;  // in "base"
+  for (double y = -3; y <= 3; y += 0.02)
+    for (double z = -2; z <= 2; z += 0.02) points.emplace_back(4.0f, float(y), float(z));
+  for (double y = -0.3; y <= 0.3; y += 0.02)
+    for (double z = -0.3; z <= 0.3; z += 0.02) points.emplace_back(1.0f, float(y), float(z));
+  const DepthSurface surface(spec);
+  const auto view = surface.update(points, spec.T_frame_view().inverse());
+  const Occlusion occlusion = camera_occluders(rig, points, "base");
+  const FusionMap with = build_map(rig, *view, MapPrecision::kExact, Sampling::kBilinear, &occlusion);
+  const FusionMap without = build_map(rig, *view, MapPrecision::kExact, Sampling::kBilinear);
+  // The wall point straight behind the box as the camera sees it, (4, 0, 0), seen from the view.
+  Vec2 uv;
+  ASSERT_TRUE(view->point_to_pixel(spec.T_frame_view().inverse() * Vec3(4, 0, 0), uv));
+  const size_t behind = size_t(std::lround(uv.y())) * with.width + size_t(std::lround(uv.x()));
+  EXPECT_EQ(without.primary[behind].cam, 0) << "without occlusion the box's colour is painted there";
+  EXPECT_EQ(with.primary[behind].cam, kNoCamera);
+  // The box itself and the wall beside it stay.
+  ASSERT_TRUE(view->point_to_pixel(spec.T_frame_view().inverse() * Vec3(1, 0, 0), uv));
+  EXPECT_EQ(with.primary[size_t(std::lround(uv.y())) * with.width + size_t(std::lround(uv.x()))].cam, 0);
+  ASSERT_TRUE(view->point_to_pixel(spec.T_frame_view().inverse() * Vec3(4, 2.0, 0), uv));
+  EXPECT_EQ(with.primary[size_t(std::lround(uv.y())) * with.width + size_t(std::lround(uv.x()))].cam, 0);
+  EXPECT_LT(with.coverage(), without.coverage());
+}
+
+}  // namespace
+}  // namespace omniview
