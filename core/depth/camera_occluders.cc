@@ -67,6 +67,13 @@ Occlusion camera_occluders(const Rig& rig, const std::vector<Eigen::Vector3f>& p
 
 namespace omniview {
 
+ColourOptions view_occlusion_options() {
+  ColourOptions o;
+  o.occlusion_cell_deg = 0.2;
+  o.occlusion_reach_deg = 0.4;
+  return o;
+}
+
 Occlusion view_occlusion(const Rig& rig, const MeasuredDepthView& view, const std::vector<Eigen::Vector3f>& points,
                          const Pose& T_view_points, const ColourOptions& options, int surface_step) {
   const ViewSpec& spec = view.spec();

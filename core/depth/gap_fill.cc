@@ -54,15 +54,24 @@ std::vector<float> fill_gaps(const ViewRays& rays, const std::vector<float>& ran
     }
   });
   const float rel = static_cast<float>(options.max_step_rel), abs_m = static_cast<float>(options.max_step_m);
-  // The surface through samples a and b (pixel indices), at fraction t of the way from a:
-  // its range, or 0 when they are too far apart to be one surface.
-  const auto through = [&](size_t a, size_t b, float t) {
+  // The surface through samples a and b where pixel i's ray meets it: the point of the
+  // segment between them that lies on the ray (exact for any surface flat between the two,
+  // in every view type), or 0 when they are too far apart to be one surface.
+  const auto through = [&](size_t a, size_t b, size_t i) {
     const float ra = range[a], rb = range[b];
-    const float dx = ra * rays.x[a] - rb * rays.x[b], dy = ra * rays.y[a] - rb * rays.y[b],
-                dz = ra * rays.z[a] - rb * rays.z[b];
+    const float ax = ra * rays.x[a], ay = ra * rays.y[a], az = ra * rays.z[a];
+    const float ex = rb * rays.x[b] - ax, ey = rb * rays.y[b] - ay, ez = rb * rays.z[b] - az;
     const float limit = rel * std::min(ra, rb) + abs_m;
-    if (dx * dx + dy * dy + dz * dz > limit * limit) return 0.f;
-    return 1.f / ((1.f - t) / ra + t / rb);
+    if (ex * ex + ey * ey + ez * ez > limit * limit) return 0.f;
+    // Components across the ray d: P(s) = A + s E is on the ray where A_perp + s E_perp = 0.
+    const float dx = rays.x[i], dy = rays.y[i], dz = rays.z[i];
+    const float a_along = ax * dx + ay * dy + az * dz, e_along = ex * dx + ey * dy + ez * dz;
+    const float apx = ax - a_along * dx, apy = ay - a_along * dy, apz = az - a_along * dz;
+    const float epx = ex - e_along * dx, epy = ey - e_along * dy, epz = ez - e_along * dz;
+    const float e2 = epx * epx + epy * epy + epz * epz;
+    const float t = e2 > 0.f ? std::clamp(-(apx * epx + apy * epy + apz * epz) / e2, 0.f, 1.f) : 0.5f;
+    const float r = a_along + t * e_along;
+    return r > 0.f ? r : 0.f;
   };
   std::vector<float> out(range);
   size_t filled = 0, replaced = 0;
@@ -76,11 +85,11 @@ std::vector<float> fill_gaps(const ViewRays& rays, const std::vector<float>& ran
         float best = 0.f;
         const int l = left[i], r = right[i], a = up[i], b = down[i];
         if (l && r && l + r <= reach) {
-          const float s = through(i - l, i + r, float(l) / float(l + r));
+          const float s = through(i - l, i + r, i);
           if (s > 0.f) best = s;
         }
         if (a && b && a + b <= reach) {
-          const float s = through(i - size_t(a) * w, i + size_t(b) * w, float(a) / float(a + b));
+          const float s = through(i - size_t(a) * w, i + size_t(b) * w, i);
           if (s > 0.f && (best == 0.f || s < best)) best = s;
         }
         if (best == 0.f) continue;
