@@ -51,13 +51,18 @@ BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& 
   s.range.resize(n);
   s.measured.resize(n);
   const float inv_band = 1.f / static_cast<float>(band);
+  // Only measured depth at or behind the fixed surface fades into it (a wall going on above
+  // a lidar's top ring). Measured depth well in front of it is an object, and past the
+  // object's measured edge the world goes on behind it: there the edge is a real step, and a
+  // fade would lift the floor beside a pillar towards the pillar's range.
+  constexpr float kNearer = 1.1f;  // measured range < fixed / 1.1: in front
   for (size_t i = 0; i < n; ++i) {
     const float fixed = rays.fixed_range[i];
     if (dist[i] == 0) {
       s.range[i] = measured[i];
       s.measured[i] = 255;
       ++s.measured_pixels;
-    } else if (dist[i] < far && fixed > 0.f) {
+    } else if (dist[i] < far && fixed > 0.f && inv[i] * fixed < kNearer) {
       const float share = 1.f - static_cast<float>(dist[i]) * inv_band;
       s.range[i] = 1.f / (share * inv[i] + (1.f - share) / fixed);
       s.measured[i] = static_cast<uint8_t>(std::lround(255.f * share));

@@ -1,7 +1,8 @@
 // The surface a measured-depth view stands on: measured range where there is some, the
 // view's fixed surface elsewhere, and between them a band (DepthOptions::blend_band_deg)
 // outward from the measured pixels where the nearest measured range fades into the fixed
-// one, in inverse range, so no step shows where the two meet.
+// one, in inverse range, so no step shows where the two meet. Only where the measured
+// surface lies at or behind the fixed one: an object in front of it keeps its edge.
 #pragma once
 
 #include <vector>

@@ -92,7 +92,24 @@ std::vector<float> fill_gaps(const ViewRays& rays, const std::vector<float>& ran
           const float s = through(i - size_t(a) * w, i + size_t(b) * w, i);
           if (s > 0.f && (best == 0.f || s < best)) best = s;
         }
-        if (best == 0.f) continue;
+        // At the image's edge the partner sample may lie just outside the view: a sample
+        // within reach on one side, the edge nearer than the rest of the reach on the other,
+        // extends its range to the edge (the last ring before the border joins nothing else).
+        if (best == 0.f) {
+          const int to_left = u, to_right = w - 1 - u, to_top = v, to_bottom = h - 1 - v;
+          if (l && !r && l + to_right < reach) best = range[i - l];
+          if (!l && r && r + to_left < reach) best = range[i + r];
+          if (a && !b && a + to_bottom < reach && (best == 0.f || range[i - size_t(a) * w] < best)) {
+            best = range[i - size_t(a) * w];
+          }
+          if (!a && b && b + to_top < reach && (best == 0.f || range[i + size_t(b) * w] < best)) {
+            best = range[i + size_t(b) * w];
+          }
+          if (best == 0.f || range[i] != 0.f) continue;
+          out[i] = best;
+          ++my_filled;
+          continue;
+        }
         if (range[i] == 0.f) {
           out[i] = best;
           ++my_filled;

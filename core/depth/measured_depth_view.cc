@@ -26,7 +26,9 @@ bool MeasuredDepthView::point_to_pixel(const Vec3& point, Vec2& uv) const {
 
 std::vector<uint8_t> MeasuredDepthView::occlusion_judged() const {
   std::vector<uint8_t> judged(measured_.size());
-  for (size_t i = 0; i < judged.size(); ++i) judged[i] = measured_[i] == 0 || measured_[i] == 255;
+  for (size_t i = 0; i < judged.size(); ++i) {
+    judged[i] = measured_[i] == 255 || (measured_[i] == 0 && rays_->fixed_on_ground[i]);
+  }
   return judged;
 }
 

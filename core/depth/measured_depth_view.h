@@ -33,7 +33,11 @@ class MeasuredDepthView : public View {
   // Range along pixel (u, v)'s ray (0: none), and how much of it is measured (0..255).
   float range_at(int u, int v) const { return range_[size_t(v) * width() + u]; }
   uint8_t measured_at(int u, int v) const { return measured_[size_t(v) * width() + u]; }
-  // For Occlusion::judged: 1 where the surface is measured or fixed, 0 in the blend band.
+  // For Occlusion::judged: where the surface is geometry, not a guess: measured, or the
+  // fixed surface where it is the ground (the floor behind a pillar a camera sees the pillar
+  // over). Not the blend band, nor a fixed plane, cylinder or sphere: a point of those a
+  // camera sees behind a measured object is most often that object going on past its last
+  // measured ring, and black there would hide what the camera plainly sees.
   std::vector<uint8_t> occlusion_judged() const;
   // Fraction of the view's pixels that stand on measured depth (blend band included).
   double measured_fraction() const;

@@ -18,6 +18,12 @@ std::shared_ptr<const ViewRays> make_view_rays(std::shared_ptr<const View> view)
   rays->z.resize(n);
   rays->valid.resize(n);
   rays->fixed_range.resize(n);
+  rays->fixed_on_ground.resize(n);
+  const ViewSpec& spec = view->spec();
+  const Pose T = spec.T_frame_view();
+  const Vec3 down = T.linear().transpose() * Vec3(0, 0, -1);  // the frame's -z in the view frame
+  const double height = T.translation().z() - spec.ground_z;
+  const bool has_ground = spec.ground || spec.type == ViewType::kBirdseye;
   cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
     std::vector<float> px(w), py(w), pz(w);
     std::vector<uint8_t> on_surface(w);
@@ -33,6 +39,9 @@ std::shared_ptr<const ViewRays> make_view_rays(std::shared_ptr<const View> view)
         rays->z[i] = static_cast<float>(unit.z());
         rays->valid[i] = has_ray;
         rays->fixed_range[i] = has_ray && on_surface[u] ? std::hypot(px[u], py[u], pz[u]) : 0.f;
+        const double descent = unit.dot(down);
+        rays->fixed_on_ground[i] = has_ground && rays->fixed_range[i] > 0.f && descent > 1e-9 &&
+                                   rays->fixed_range[i] >= 0.999 * height / descent;
       }
     }
   });

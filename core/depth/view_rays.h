@@ -17,6 +17,9 @@ struct ViewRays {
   // Range along the ray to the fixed surface (the ground cut included); 0 where it has none
   // (a bird's-eye ray above the horizon).
   std::vector<float> fixed_range;
+  // The fixed surface point is on the ground plane (a bird's-eye view, `ground: true`): the
+  // floor is real geometry, where a plane at `distance` is a guess.
+  std::vector<uint8_t> fixed_on_ground;
   double pixel_rad = 0;              // angle between neighbouring rays at the image centre
 
   size_t size() const { return x.size(); }

@@ -87,10 +87,11 @@ TEST(DepthSurface, RingsOnAWallAreJoinedAndNonFinitePointsCounted) {
 TEST(DepthSurface, AStepIsNotBridgedAndFarFromSamplesTheFixedSurfaceReturns) {
   const ViewSpec spec = perspective();
   const DepthSurface surface(spec);
-  // A near wall on the left half (x = 1.5, y > 0) and a far one on the right (x = 4, y < 0):
+  // A near wall on the left half (x = 1.5, y > 0) and a far one on the right (x = 6, y < 0,
+  // behind the fixed plane at 5 m):
   // the columns between their samples must not be filled with a surface across the step.
   auto points = wall_rings(1.5, 2.0, 0.02, 10);
-  const auto far = wall_rings(4.0, 2.0, -10, -0.1);
+  const auto far = wall_rings(6.0, 2.0, -10, -0.1);
   points.insert(points.end(), far.begin(), far.end());
   DepthStats stats;
   const auto view = surface.update(points, Pose::Identity(), &stats);
@@ -104,12 +105,13 @@ TEST(DepthSurface, AStepIsNotBridgedAndFarFromSamplesTheFixedSurfaceReturns) {
       Vec3 p;
       ASSERT_TRUE(view->pixel_to_point(u, v, p));
       // Every measured point is on one wall or the other, never in between.
-      EXPECT_TRUE(std::abs(p.x() - 1.5) < 0.02 || std::abs(p.x() - 4.0) < 0.05) << u << "," << v << " x " << p.x();
+      EXPECT_TRUE(std::abs(p.x() - 1.5) < 0.02 || std::abs(p.x() - 6.0) < 0.05) << u << "," << v << " x " << p.x();
     }
     EXPECT_LE(unmeasured, 4) << "row " << v;
   }
   // Above +15 deg elevation nothing was measured: the top row (26.6 deg) is the fixed plane
-  // at 5 m, and the band between blends without a jump.
+  // at 5 m. Above the far wall, behind that plane, a band fades from one to the other
+  // without a jump; above the near wall, an object in front of it, the edge stays a step.
   Vec3 top;
   ASSERT_TRUE(view->pixel_to_point(100, 0, top));
   EXPECT_NEAR(top.x(), 5.0, 1e-3);
@@ -120,6 +122,10 @@ TEST(DepthSurface, AStepIsNotBridgedAndFarFromSamplesTheFixedSurfaceReturns) {
     EXPECT_LT(std::abs(r - previous), 0.1f * previous) << "row " << v;  // a fade, no step
     previous = r;
   }
+  EXPECT_EQ(view->measured_at(50, 15), 0) << "no fade above the near wall";
+  Vec3 above_near;
+  ASSERT_TRUE(view->pixel_to_point(50, 15, above_near));
+  EXPECT_NEAR(above_near.x(), 5.0, 1e-3);
 }
 
 TEST(DepthSurface, MeasuredViewsAreRejectedWhereTheSpecIsInvalid) {
