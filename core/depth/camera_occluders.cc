@@ -53,9 +53,7 @@ Occlusion camera_occluders(const Rig& rig, const std::vector<Eigen::Vector3f>& p
       }
       cloud_internal::occluding_depth(pass);
       CameraOccluder& out = occlusion.cameras[c];
-      out.depth = std::move(pass.occluder);
-      out.rows = pass.rows;
-      out.cols = pass.cols;
+      out.assign_row_major(pass.occluder, pass.rows, pass.cols);
       out.inv_cell = pass.inv_cell;
       out.offset = pass.offset;
     }
