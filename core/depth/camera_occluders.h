@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "core/cloud/colourer.h"
+#include "core/depth/depth_options.h"
 #include "core/depth/measured_depth_view.h"
 #include "core/map/occlusion.h"
 #include "core/rig/rig.h"
@@ -23,20 +24,35 @@ namespace omniview {
 Occlusion camera_occluders(const Rig& rig, const std::vector<Eigen::Vector3f>& points, const std::string& points_frame,
                            const ColourOptions& options = {}, const Pose& T_frame_points = Pose::Identity());
 
-// The colourer's occlusion settings for views: a view's measured surface is dense (its gaps
-// filled), so cells of 0.2 deg (about a pixel of a 90 deg, 640 px camera) and a reach of two
-// cells keep the black wedges behind objects as narrow as the cameras' own; the colourer's
-// 1 deg cells and 4 deg reach, made to bridge a lidar's rings, blacken visible floor and
-// wall next to every object (the golden test measured 24 dB against 35 dB here).
-ColourOptions view_occlusion_options();
+// Each camera's depth as a range image of `cell_deg` cells (the colourer's buffer layout,
+// projection and hidden_behind rule), splatted from `points` and gap-filled by the view
+// surface's own rule (gap_fill.h: samples on either side of a cell joined where they lie on
+// one surface), so a lidar's rings cover what lies behind them without covering the gap
+// between two separate objects. A cell covers what lies behind it only where its 3 x 3
+// neighbours are all as near: at a silhouette a cell holds both sides.
+Occlusion filled_camera_occluders(const Rig& rig, const std::vector<Eigen::Vector3f>& points,
+                                  const std::string& points_frame, const Pose& T_frame_points,
+                                  const DepthOptions& depth, double cell_deg, float tolerance_rel, float tolerance_m);
 
-// The occlusion a measured-depth view is mapped with: the depth buffers of the measured
-// points (`points`, placed in the view frame by T_view_points) together with the view's own
-// measured surface, whose gaps between the points are filled already (a lidar's rings alone,
-// 2 deg apart, let the floor behind a pillar show through between them), sampled every
-// `surface_step` pixels; the blend band left out of the test (Occlusion::judged).
+// How a measured-depth view judges occlusion. Cells of 0.5 deg (about 3 pixels of Spot's
+// cameras) with the 3 x 3 rule of filled_camera_occluders; on the golden room with the
+// scene's exact depth this took the bird's-eye view from 35.5 dB (no occlusion) to 42.7 dB
+// and the unseen pixels it paints from 54 % to 5 %, and left the front view at 48.2 dB.
+// The colourer's own rule (1 deg cells, covered from both sides within 4 deg) blackened
+// visible floor beside every object there (24.7 dB), and with 0.2 deg cells let the floor
+// behind a pillar show between a lidar's rings.
+struct ViewOcclusionOptions {
+  double cell_deg = 0.5;
+  float tolerance_rel = 0.1f, tolerance_m = 0.1f;  // as ColourOptions::occlusion_tolerance_*
+  DepthOptions fill;                               // the gap fill's rule, in the cameras
+  int surface_step = 2;                            // view pixels between surface samples
+};
+
+// The occlusion a measured-depth view is mapped with: each camera's filled depth
+// (filled_camera_occluders) of the measured points (`points`, placed in the view frame by
+// T_view_points) together with the view's own measured surface, sampled every
+// `surface_step` pixels; only what is geometry is judged (MeasuredDepthView::occlusion_judged).
 Occlusion view_occlusion(const Rig& rig, const MeasuredDepthView& view, const std::vector<Eigen::Vector3f>& points,
-                         const Pose& T_view_points, const ColourOptions& options = view_occlusion_options(),
-                         int surface_step = 2);
+                         const Pose& T_view_points, const ViewOcclusionOptions& options = {});
 
 }  // namespace omniview

@@ -100,17 +100,21 @@ TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
   v.hfov_deg = 100;
   const Variants r = run(v);
   report("bird's-eye", r);
-  // Measured (release, this commit): fixed 30.8 dB, unseen painted 76.7 %; one VLP-16
-  // rotation 28.6 dB, 72.8 %; exact depth 36.7 dB, 28.7 % (35.5 dB, 54.3 % without occlusion).
-  // The issue's targets for (b) (>= fixed + 6 dB, within 2 dB of exact, <= 5 % painted) are
-  // NOT met yet: one rotation's rings leave the floor behind each pillar to the fixed ground,
-  // which the cameras see the pillar over, and its rings are too sparse for the view's
-  // 0.2 deg occlusion cells. These bounds guard what works, a few dB below the figures.
-  EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 5);
-  EXPECT_GT(r.exact.psnr_db, r.exact_no_occlusion.psnr_db);  // occlusion helps where the geometry is whole
-  EXPECT_LE(r.exact.unseen_painted, 0.35);
-  EXPECT_LT(r.lidar.unseen_painted, r.fixed.unseen_painted);
-  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 6);
+  // Measured (release, this commit; issue targets in brackets):
+  //   (a) fixed ground              30.8 dB, unseen painted 76.7 %
+  //   (b) one VLP-16 rotation       25.9 dB, 57.5 %  (28.8 dB, 74.1 % without occlusion)
+  //   (c) exact depth of the scene  42.7 dB,  4.8 %  (35.5 dB, 54.3 % without occlusion)
+  // With the exact depth the targets hold (>= fixed + 6 dB: +11.8; <= 5 % painted). With
+  // one rotation they do not (>= fixed + 6 dB, within 2 dB of (c), <= 5 %): its rings
+  // leave the pillars' and boxes' lower and upper parts unmeasured, the floor behind them
+  // stays the fixed ground, which the cameras see those objects over (painted), and the
+  // lidar's samples at silhouettes, seen from the cameras' places, blacken some visible
+  // floor. These bounds guard what works, below the figures by compiler-noise margins.
+  EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 10);
+  EXPECT_GT(r.exact.psnr_db, r.exact_no_occlusion.psnr_db + 5);  // occlusion helps where the geometry is whole
+  EXPECT_LE(r.exact.unseen_painted, 0.06);
+  EXPECT_LT(r.lidar.unseen_painted, r.fixed.unseen_painted - 0.15);
+  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 7);
 }
 
 TEST(DepthGolden, FrontViewOnMeasuredDepth) {
@@ -128,16 +132,19 @@ TEST(DepthGolden, FrontViewOnMeasuredDepth) {
   v.ground_z = -0.5;
   const Variants r = run(v);
   report("front", r);
-  // Measured: fixed 40.9 dB; one VLP-16 rotation 32.3 dB (42.3 without occlusion); exact
-  // 38.4 dB (48.2 without occlusion), unseen painted 100 % -> 7 %. On this smooth texture
-  // the fixed plane (with the floor cut in) is already close; measured depth gains 1.4
-  // (lidar) to 7.3 dB (exact), and occlusion's black, wider than the true shadow at each
-  // edge (and at the lidar's wrong edges), costs 10 dB of PSNR over seen pixels. Target
-  // (b) >= fixed + 6 dB: not met.
-  EXPECT_GE(r.exact_no_occlusion.psnr_db, r.fixed.psnr_db + 5);
+  // Measured (release, this commit):
+  //   (a) fixed plane, floor cut in 40.9 dB
+  //   (b) one VLP-16 rotation       28.8 dB (42.3 dB without occlusion)
+  //   (c) exact depth of the scene  48.2 dB, unseen painted 37 % (48.2 dB, 100 % without)
+  // On this smooth texture the fixed plane with the floor is already close. Exact depth
+  // gains 7.3 dB (target >= 6: met); one rotation gains 1.4 dB without occlusion and loses
+  // 12 dB with it (target not met): the cameras judge its silhouette samples and the far
+  // samples it saw past objects' edges hidden, and black there costs much PSNR.
+  EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 6);
+  EXPECT_GE(r.exact.psnr_db, r.exact_no_occlusion.psnr_db - 0.5);  // no visible pixel blackened
+  EXPECT_LE(r.exact.unseen_painted, 0.45);
   EXPECT_GE(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db + 1);
-  EXPECT_LE(r.exact.unseen_painted, 0.15);
-  EXPECT_GT(r.lidar.psnr_db, 29);
+  EXPECT_GT(r.lidar.psnr_db, 26);
 }
 
 }  // namespace
