@@ -31,6 +31,11 @@ const Rig& rig() {
   return r;
 }
 
+const CameraRangeImages& range_images() {  // made once per rig, as the daemon would
+  static const CameraRangeImages images(rig(), ViewOcclusionOptions{}.cell_deg);
+  return images;
+}
+
 ViewSpec front_view(Depth depth) {
   ViewSpec s;
   s.name = "front";
@@ -70,7 +75,7 @@ void BM_DepthUpdate(benchmark::State& state, int rotations) {
   const Pose T_view_body = spec.T_frame_view().inverse();
   for (auto _ : state) {
     const auto view = surface.update(points, T_view_body);
-    const Occlusion occlusion = view_occlusion(rig(), *view, points, T_view_body);
+    const Occlusion occlusion = view_occlusion(range_images(), *view, points, T_view_body);
     benchmark::DoNotOptimize(build_map(rig(), *view, MapPrecision::kExact, Sampling::kFootprint, &occlusion));
   }
   state.counters["points"] = double(points.size());
@@ -90,7 +95,7 @@ void BM_DepthOcclusionOnly(benchmark::State& state, int rotations) {
   const auto& points = lidar_points(rotations);
   const Pose T_view_body = spec.T_frame_view().inverse();
   const auto view = DepthSurface(spec).update(points, T_view_body);
-  for (auto _ : state) benchmark::DoNotOptimize(view_occlusion(rig(), *view, points, T_view_body));
+  for (auto _ : state) benchmark::DoNotOptimize(view_occlusion(range_images(), *view, points, T_view_body));
 }
 
 void BM_DepthMapOnly(benchmark::State& state, int rotations) {
@@ -98,7 +103,7 @@ void BM_DepthMapOnly(benchmark::State& state, int rotations) {
   const auto& points = lidar_points(rotations);
   const Pose T_view_body = spec.T_frame_view().inverse();
   const auto view = DepthSurface(spec).update(points, T_view_body);
-  const Occlusion occlusion = view_occlusion(rig(), *view, points, T_view_body);
+  const Occlusion occlusion = view_occlusion(range_images(), *view, points, T_view_body);
   for (auto _ : state) {
     benchmark::DoNotOptimize(build_map(rig(), *view, MapPrecision::kExact, Sampling::kFootprint, &occlusion));
   }

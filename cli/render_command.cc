@@ -247,7 +247,8 @@ FusionMap measured_depth_map(const NamedView& view, const Rig& rig, const Render
   const Pose T_view_cloud = spec.T_frame_view().inverse() * rig.frames().lookup(frame, cloud.frame);
   DepthStats stats;
   const auto depth_view = DepthSurface(spec).update(cloud.points, T_view_cloud, &stats);
-  const Occlusion occlusion = view_occlusion(rig, *depth_view, cloud.points, T_view_cloud);
+  const Occlusion occlusion =
+      view_occlusion(CameraRangeImages(rig, ViewOcclusionOptions{}.cell_deg), *depth_view, cloud.points, T_view_cloud);
   std::ostringstream os;
   os << std::fixed << std::setprecision(1) << ", " << 100 * depth_view->measured_fraction()
      << " % on measured depth (" << stats.points - stats.non_finite - stats.outside_view << " of "

@@ -1,8 +1,8 @@
 // Occlusion for the map builder: per camera, the depth of the nearest surface in front of
 // each cell of its image, so that a surface point a nearer surface hides from a camera is
 // not taken from that camera (DESIGN.md, "Unseen is black"). Views on measured depth get it
-// from the same depth buffers the cloud colourer uses (core/depth/camera_occluders.h);
-// views on fixed surfaces have none, and their maps are what they always were.
+// from core/depth/camera_occluders.h (the cloud colourer's buffer layout, projection and
+// tolerance); views on fixed surfaces have none, and their maps are what they always were.
 #pragma once
 
 #include <cstddef>

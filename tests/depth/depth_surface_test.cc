@@ -150,14 +150,22 @@ TEST(DepthOcclusion, AHiddenSurfacePointIsBlackNotTheOccludersColour) {
   ViewSpec spec = perspective(100, 60);
   spec.frame = "base";
   spec.position = Vec3(0, 0.5, 0);
+  // Sampled like a lidar at the view's place (every 0.5 deg): the box x = 1, |y|, |z| <= 0.3,
+  // and the wall x = 4, also where the box hides it from the camera.
   std::vector<Eigen::Vector3f> points;  // in "base"
-  for (double y = -3; y <= 3; y += 0.02)
-    for (double z = -2; z <= 2; z += 0.02) points.emplace_back(4.0f, float(y), float(z));
-  for (double y = -0.3; y <= 0.3; y += 0.02)
-    for (double z = -0.3; z <= 0.3; z += 0.02) points.emplace_back(1.0f, float(y), float(z));
+  const Vec3 lidar(0, 0.5, 0);
+  for (double az = -50; az <= 50; az += 0.5) {
+    for (double el = -30; el <= 30; el += 0.5) {
+      const Vec3 dir(1, std::tan(az * M_PI / 180), std::tan(el * M_PI / 180));
+      const Vec3 on_box = lidar + dir * 1.0;
+      const bool box = std::abs(on_box.y()) <= 0.3 && std::abs(on_box.z()) <= 0.3;
+      points.push_back((lidar + dir * (box ? 1.0 : 4.0)).cast<float>());
+    }
+  }
   const DepthSurface surface(spec);
   const auto view = surface.update(points, spec.T_frame_view().inverse());
-  const Occlusion occlusion = camera_occluders(rig, points, "base");
+  const Occlusion occlusion =
+      view_occlusion(CameraRangeImages(rig, ViewOcclusionOptions{}.cell_deg), *view, points, spec.T_frame_view().inverse());
   const FusionMap with = build_map(rig, *view, MapPrecision::kExact, Sampling::kBilinear, &occlusion);
   const FusionMap without = build_map(rig, *view, MapPrecision::kExact, Sampling::kBilinear);
   // The wall point straight behind the box as the camera sees it, (4, 0, 0), seen from the view.
