@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include <opencv2/core/utility.hpp>
+
 namespace omniview {
 
 BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& measured, const DepthOptions& options) {
@@ -12,16 +14,19 @@ BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& 
   const int band = std::clamp(static_cast<int>(std::lround(options.blend_band_deg * M_PI / 180 / rays.pixel_rad)), 1,
                               4096);
   // City-block distance (in pixels, capped at `band`) to the nearest measured pixel and its
-  // inverse range, by two raster passes that carry both: O(pixels) whatever the band. The
-  // band's outline is a diamond rather than a circle, which nobody sees in a fade.
+  // inverse range, carried by sweeps: along each row both ways (rows in parallel), then
+  // down and up the columns (bands of columns in parallel, read row by row). The L1
+  // distance separates exactly that way; O(pixels) whatever the band. The band's outline
+  // is a diamond rather than a circle, which nobody sees in a fade.
   const uint16_t far = static_cast<uint16_t>(band);
-  std::vector<uint16_t> dist(n);
-  std::vector<float> inv(n);
-  for (size_t i = 0; i < n; ++i) {
-    const bool m = measured[i] > 0.f;
-    dist[i] = m ? 0 : far;
-    inv[i] = m ? 1.f / measured[i] : 0.f;
-  }
+  // Scratch kept per calling thread, named through references (a worker naming the
+  // thread_local itself would get its own, empty, instance).
+  thread_local std::vector<uint16_t> dist_scratch;
+  thread_local std::vector<float> inv_scratch;
+  std::vector<uint16_t>& dist = dist_scratch;
+  std::vector<float>& inv = inv_scratch;
+  dist.resize(n);
+  inv.resize(n);
   const auto take = [&](size_t i, size_t from) {
     const uint16_t d = static_cast<uint16_t>(dist[from] + 1);
     if (d < dist[i]) {
@@ -29,24 +34,29 @@ BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& 
       inv[i] = inv[from];
     }
   };
-  for (int v = 0; v < h; ++v) {
-    const size_t row = size_t(v) * w;
-    for (int u = 0; u < w; ++u) {
-      const size_t i = row + u;
-      if (dist[i] == 0) continue;
-      if (u > 0) take(i, i - 1);
-      if (v > 0) take(i, i - w);
+  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const size_t row = size_t(v) * w;
+      for (int u = 0; u < w; ++u) {
+        const size_t i = row + u;
+        const bool m = measured[i] > 0.f;
+        dist[i] = m ? 0 : far;
+        inv[i] = m ? 1.f / measured[i] : 0.f;
+        if (u > 0) take(i, i - 1);
+      }
+      for (int u = w - 2; u >= 0; --u) take(row + u, row + u + 1);
     }
-  }
-  for (int v = h - 1; v >= 0; --v) {
-    const size_t row = size_t(v) * w;
-    for (int u = w - 1; u >= 0; --u) {
-      const size_t i = row + u;
-      if (dist[i] == 0) continue;
-      if (u + 1 < w) take(i, i + 1);
-      if (v + 1 < h) take(i, i + w);
+  });
+  constexpr int kColumns = 64;
+  cv::parallel_for_(cv::Range(0, (w + kColumns - 1) / kColumns), [&](const cv::Range& bands) {
+    const int u0 = bands.start * kColumns, u1 = std::min(w, bands.end * kColumns);
+    for (int v = 1; v < h; ++v) {
+      for (int u = u0; u < u1; ++u) take(size_t(v) * w + u, size_t(v - 1) * w + u);
     }
-  }
+    for (int v = h - 2; v >= 0; --v) {
+      for (int u = u0; u < u1; ++u) take(size_t(v) * w + u, size_t(v + 1) * w + u);
+    }
+  });
   BlendedSurface s;
   s.range.resize(n);
   s.measured.resize(n);

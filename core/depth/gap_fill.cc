@@ -39,7 +39,16 @@ std::vector<float> fill_gaps(const ViewRays& rays, const std::vector<float>& ran
                                std::min(30000, std::max(w, h)));
   const size_t n = rays.size();
   // Nearest samples left, right, up and down of each pixel.
-  std::vector<uint16_t> left(n), right(n), up(n), down(n);
+  // Scratch kept per calling thread: fresh 4 MB every update was a tenth of its time in
+  // page faults.
+  // (Named through references: a lambda run on a worker thread that named the thread_local
+  // itself would get that worker's own, empty, instance.)
+  thread_local std::vector<uint16_t> scratch[4];
+  std::vector<uint16_t>& left = scratch[0];
+  std::vector<uint16_t>& right = scratch[1];
+  std::vector<uint16_t>& up = scratch[2];
+  std::vector<uint16_t>& down = scratch[3];
+  left.resize(n), right.resize(n), up.resize(n), down.resize(n);
   cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {
       const size_t row = size_t(v) * w;
