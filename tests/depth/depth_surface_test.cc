@@ -128,6 +128,38 @@ TEST(DepthSurface, AStepIsNotBridgedAndFarFromSamplesTheFixedSurfaceReturns) {
   EXPECT_NEAR(above_near.x(), 5.0, 1e-3);
 }
 
+// Every view type stands on measured depth the same way (the generic projection path): a
+// cylindrical panorama of radius 5 inside a round room of radius 3 sampled like a lidar.
+TEST(DepthSurface, APanoramaStandsOnTheMeasuredRoom) {
+  ViewSpec spec;
+  spec.name = "pano";
+  spec.type = ViewType::kCylindrical;
+  spec.width = 360;
+  spec.height = 90;
+  spec.radius = 5;
+  spec.vfov_deg = 40;
+  spec.depth = Depth::kMeasured;
+  std::vector<Eigen::Vector3f> points;
+  for (double az = 0; az < 360; az += 0.2) {
+    for (double el = -15; el <= 15.01; el += 2) {  // a VLP-16's rings
+      const double a = az * M_PI / 180, e = el * M_PI / 180;
+      points.emplace_back(float(3 * std::cos(a)), float(3 * std::sin(a)), float(3 * std::tan(e)));
+    }
+  }
+  const auto view = DepthSurface(spec).update(points, Pose::Identity());
+  size_t on_room = 0, rows = 0;
+  for (int v = 14; v < 76; ++v) {  // within the rings' +-15 deg (rows 12 .. 77)
+    for (int u = 0; u < spec.width; ++u) {
+      Vec3 p;
+      ASSERT_TRUE(view->pixel_to_point(u, v, p));
+      ++rows;
+      on_room += std::abs(std::hypot(p.x(), p.y()) - 3.0) < 0.02;
+    }
+  }
+  EXPECT_GT(double(on_room) / double(rows), 0.99);
+  EXPECT_GT(view->measured_fraction(), 0.7);  // +-15 of the +-20 deg
+}
+
 TEST(DepthSurface, MeasuredViewsAreRejectedWhereTheSpecIsInvalid) {
   ViewSpec spec = perspective();
   spec.hfov_deg = 0;
