@@ -20,9 +20,12 @@ struct DepthOptions {
   double max_step_rel = 0.10;
   double max_step_m = 0.05;
   // Where nothing was measured the fixed surface takes over, blended over this band (in the
-  // view, outward from the measured pixels) in inverse range: the parallax between cameras
-  // is linear in 1 / range, so seams move evenly across the band instead of jumping.
-  double blend_band_deg = 3.0;
+  // view, outward from the measured pixels) in inverse range, so seams, whose parallax
+  // between cameras is linear in 1 / range, move evenly across it instead of jumping. One
+  // VLP-16 ring spacing: the fade spans what the lidar leaves between two rings at the edge
+  // of its field. (Wider fades cost the golden bird's-eye view: 3 deg 31.0 dB, 2 deg 31.6,
+  // 1 deg 32.1 without occlusion; a narrower one is closer to a step.)
+  double blend_band_deg = 2.0;
 };
 
 struct DepthStats {

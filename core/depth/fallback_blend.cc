@@ -14,7 +14,7 @@ BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& 
   const int band = std::clamp(static_cast<int>(std::lround(options.blend_band_deg * M_PI / 180 / rays.pixel_rad)), 1,
                               4096);
   // City-block distance (in pixels, capped at `band`) to the nearest measured pixel and its
-  // inverse range, carried by sweeps: along each row both ways (rows in parallel), then
+  // depth relative to the fixed surface, carried by sweeps: along each row both ways (rows in parallel), then
   // down and up the columns (bands of columns in parallel, read row by row). The L1
   // distance separates exactly that way; O(pixels) whatever the band. The band's outline
   // is a diamond rather than a circle, which nobody sees in a fade.
@@ -24,7 +24,7 @@ BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& 
   thread_local std::vector<uint16_t> dist_scratch;
   thread_local std::vector<float> inv_scratch;
   std::vector<uint16_t>& dist = dist_scratch;
-  std::vector<float>& inv = inv_scratch;
+  std::vector<float>& inv = inv_scratch;  // fixed / measured range of the nearest measured pixel
   dist.resize(n);
   inv.resize(n);
   const auto take = [&](size_t i, size_t from) {
@@ -41,7 +41,10 @@ BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& 
         const size_t i = row + u;
         const bool m = measured[i] > 0.f;
         dist[i] = m ? 0 : far;
-        inv[i] = m ? 1.f / measured[i] : 0.f;
+        // Carried: the measured surface relative to the fixed one (fixed / measured range),
+        // not its range: a neighbouring ray meets the same surface at another range (a
+        // floor seen from above), and carrying the range itself raised rings of bumps.
+        inv[i] = m && rays.fixed_range[i] > 0.f ? rays.fixed_range[i] / measured[i] : 1.f;
         if (u > 0) take(i, i - 1);
       }
       for (int u = w - 2; u >= 0; --u) take(row + u, row + u + 1);
@@ -65,16 +68,16 @@ BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& 
   // a lidar's top ring). Measured depth well in front of it is an object, and past the
   // object's measured edge the world goes on behind it: there the edge is a real step, and a
   // fade would lift the floor beside a pillar towards the pillar's range.
-  constexpr float kNearer = 1.1f;  // measured range < fixed / 1.1: in front
+  constexpr float kNearer = 1.1f;  // fixed / measured > 1.1: the measured surface is in front
   for (size_t i = 0; i < n; ++i) {
     const float fixed = rays.fixed_range[i];
     if (dist[i] == 0) {
       s.range[i] = measured[i];
       s.measured[i] = 255;
       ++s.measured_pixels;
-    } else if (dist[i] < far && fixed > 0.f && inv[i] * fixed < kNearer) {
+    } else if (dist[i] < far && fixed > 0.f && inv[i] < kNearer) {
       const float share = 1.f - static_cast<float>(dist[i]) * inv_band;
-      s.range[i] = 1.f / (share * inv[i] + (1.f - share) / fixed);
+      s.range[i] = fixed / (share * inv[i] + (1.f - share));
       s.measured[i] = static_cast<uint8_t>(std::lround(255.f * share));
       ++s.blended_pixels;
     } else {

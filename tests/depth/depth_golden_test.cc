@@ -103,19 +103,21 @@ TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
   report("bird's-eye", r);
   // Measured (release, this commit; issue targets in brackets):
   //   (a) fixed ground              30.8 dB, unseen painted 76.7 %
-  //   (b) one VLP-16 rotation       25.9 dB, 57.5 %  (28.8 dB, 74.1 % without occlusion)
+  //   (b) one VLP-16 rotation       27.1 dB, 57.2 %  (31.6 dB, 74.1 % without occlusion)
   //   (c) exact depth of the scene  42.7 dB,  4.8 %  (35.5 dB, 54.3 % without occlusion)
   // With the exact depth the targets hold (>= fixed + 6 dB: +11.8; <= 5 % painted). With
   // one rotation they do not (>= fixed + 6 dB, within 2 dB of (c), <= 5 %): its rings
   // leave the pillars' and boxes' lower and upper parts unmeasured, the floor behind them
   // stays the fixed ground, which the cameras see those objects over (painted), and the
   // lidar's samples at silhouettes, seen from the cameras' places, blacken some visible
-  // floor. These bounds guard what works, below the figures by compiler-noise margins.
+  // floor (without occlusion it beats the ground by 0.7 dB, but paints what no camera
+  // sees). These bounds guard what works, below the figures by compiler-noise margins.
   EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 10);
   EXPECT_GT(r.exact.psnr_db, r.exact_no_occlusion.psnr_db + 5);  // occlusion helps where the geometry is whole
   EXPECT_LE(r.exact.unseen_painted, 0.06);
   EXPECT_LT(r.lidar.unseen_painted, r.fixed.unseen_painted - 0.15);
-  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 7);
+  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 6);
+  EXPECT_GT(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db);
 }
 
 TEST(DepthGolden, FrontViewOnMeasuredDepth) {
