@@ -8,12 +8,16 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <opencv2/imgproc.hpp>
 
 #include "cli/args.h"
+#include "cli/render_cloud.h"
 #include "cli/rig_args.h"
+#include "core/depth/camera_occluders.h"
+#include "core/depth/measured_depth_view.h"
 #include "core/io/image_codec.h"
 #include "core/io/yaml_reader.h"
 #include "core/gain/gain_compensator.h"
@@ -50,6 +54,13 @@ Computes views offline from a calibrated rig and one image per camera.
   --out PATH          one view: the output image (.png, .jpg or .jpeg), or a folder (existing,
                       or written with a trailing '/') that receives NAME.png;
                       several views: a folder, which receives NAME.png per view
+  --cloud FILE        measured points (PLY or PCD) for the views with 'depth: measured': their
+                      surface follows the points (gaps between a lidar's rings filled, the
+                      view's fixed surface where nothing was measured, blended), and a point
+                      every camera sees hidden behind a nearer surface is black. At most
+                      20 000 000 points; NaN/inf points (no return) are skipped and counted
+  --cloud-frame NAME  the rig frame the cloud's points are in (default: the frame the file
+                      records, else the rig's frame, e.g. --rig-frame's)
   --grey | --colour   output greyscale or colour (default: colour if any input is)
   --list-models       camera models and their parameters
   --list-view-types   view types and their parameters
@@ -57,7 +68,7 @@ Computes views offline from a calibrated rig and one image per camera.
 )";
 
 const OptionSpec kRenderOptions{.switches = {"grey", "colour", "color", "list-models", "list-view-types"},
-                          .single = {"rig", "rig-frame", "rig-pose", "out"},
+                          .single = {"rig", "rig-frame", "rig-pose", "out", "cloud", "cloud-frame"},
                           .repeatable = {"image", "view"}};
 
 void list_models() {
@@ -79,7 +90,8 @@ void list_view_types() {
                "  fisheye          radius, fov_deg (ideal equidistant fisheye)\n"
                "all: name, width, height, frame, pose: {xyz: [x, y, z], ypr_deg: [yaw, pitch, roll]},\n"
                "     fusion (nearest | blend), feather_px,\n"
-               "     ground: true (all but birdseye: the surface ends at the ground plane z = ground_z)\n";
+               "     ground: true (all but birdseye: the surface ends at the ground plane z = ground_z),\n"
+               "     depth: fixed | measured (the surface follows --cloud's points; default fixed)\n";
 }
 
 // ---- options ----
@@ -90,6 +102,7 @@ void check_option_combinations(const Args& args) {
   }
   if (!args.positional().empty()) throw UsageError("unexpected argument '" + args.positional()[0] + "'");
   for (const char* needed : {"rig", "view", "out"}) args.required(needed);
+  if (args.has("cloud-frame") && !args.has("cloud")) throw UsageError("--cloud-frame needs --cloud FILE");
 }
 
 // ---- the views ----
@@ -207,6 +220,7 @@ struct PreparedView {
   const NamedView* view;
   FusionMap map;
   double build_ms;
+  std::string note;  // measured depth: how much of the view stands on it
 };
 
 void check_needed_images(const NamedView& view, const FusionMap& map, const Rig& rig,
@@ -225,16 +239,47 @@ void check_needed_images(const NamedView& view, const FusionMap& map, const Rig&
 
 // Everything that can fail is checked for every view before the first is written. All maps
 // are held at once for that: an offline render has a few views, not hundreds.
+// A measured-depth view's map: its surface from the cloud, its occlusion from the cloud and
+// that surface (core/depth).
+FusionMap measured_depth_map(const NamedView& view, const Rig& rig, const RenderCloud& cloud, std::string& note) {
+  const ViewSpec& spec = view.spec;
+  const std::string frame = spec.frame.empty() ? rig.default_frame() : spec.frame;
+  const Pose T_view_cloud = spec.T_frame_view().inverse() * rig.frames().lookup(frame, cloud.frame);
+  DepthStats stats;
+  const auto depth_view = DepthSurface(spec).update(cloud.points, T_view_cloud, &stats);
+  const Occlusion occlusion =
+      view_occlusion(CameraRangeImages(rig, ViewOcclusionOptions{}.cell_deg), *depth_view, cloud.points, T_view_cloud);
+  std::ostringstream os;
+  os << std::fixed << std::setprecision(1) << ", " << 100 * depth_view->measured_fraction()
+     << " % on measured depth (" << stats.points - stats.non_finite - stats.outside_view << " of "
+     << stats.points << " points in view";
+  if (stats.non_finite) os << ", " << stats.non_finite << " NaN/inf skipped";
+  os << ")";
+  note = os.str();
+  return build_map(rig, *depth_view, MapPrecision::kExact, Sampling::kFootprint, &occlusion);
+}
+
 std::vector<PreparedView> prepare_views(const std::vector<NamedView>& views, const LoadedRig& loaded,
-                                        const std::vector<cv::Mat>& images) {
+                                        const std::vector<cv::Mat>& images, const RenderCloud* cloud) {
   for (const auto& view : views) check_view_frame(view, loaded);
+  for (const auto& view : views) {
+    if (view.spec.depth == Depth::kMeasured && !cloud) {
+      throw UsageError("view '" + view.spec.name + "' (" + view.source +
+                       ") has depth: measured: give the points it stands on with --cloud FILE");
+    }
+  }
+  if (cloud && std::none_of(views.begin(), views.end(), [](const NamedView& v) { return v.spec.depth == Depth::kMeasured; })) {
+    throw UsageError("--cloud " + cloud->file + " is for views with 'depth: measured', and none of the views has it");
+  }
   std::vector<PreparedView> prepared;
   for (const auto& view : views) {
     const auto t0 = std::chrono::steady_clock::now();
-    FusionMap map = build_map(loaded.rig, *View::create(view.spec));
+    std::string note;
+    FusionMap map = view.spec.depth == Depth::kMeasured ? measured_depth_map(view, loaded.rig, *cloud, note)
+                                                        : build_map(loaded.rig, *View::create(view.spec));
     const double build_ms = ms_since(t0);
     check_needed_images(view, map, loaded.rig, images);
-    prepared.push_back({&view, std::move(map), build_ms});
+    prepared.push_back({&view, std::move(map), build_ms, note});
   }
   return prepared;
 }
@@ -256,7 +301,7 @@ void render_and_write(const PreparedView& p, const std::vector<cv::Mat>& images,
   const ViewSpec& spec = p.view->spec;
   std::cout << std::fixed << std::setprecision(1) << path << ": " << spec.name << " (" << to_string(spec.type) << " "
             << spec.width << "x" << spec.height << "), coverage " << 100 * p.map.coverage() << " %, map "
-            << p.build_ms << " ms, apply " << apply_ms << " ms\n";
+            << p.build_ms << " ms, apply " << apply_ms << " ms" << p.note << "\n";
 }
 
 }  // namespace
@@ -276,7 +321,9 @@ int render_command(const std::vector<std::string>& argv) {
   const std::vector<NamedView> views = load_views_from_args(args);
   const std::vector<std::string> paths = output_paths(args.get("out"), views);
   const std::vector<cv::Mat> images = read_images(args, loaded.rig);
-  const std::vector<PreparedView> prepared = prepare_views(views, loaded, images);
+  std::optional<RenderCloud> cloud;
+  if (args.has("cloud")) cloud = load_render_cloud(args, loaded.rig);
+  const std::vector<PreparedView> prepared = prepare_views(views, loaded, images, cloud ? &*cloud : nullptr);
   const int channels = output_channels(args, images);
   for (size_t i = 0; i < prepared.size(); ++i) render_and_write(prepared[i], images, channels, paths[i]);
   return 0;

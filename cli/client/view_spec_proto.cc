@@ -86,6 +86,13 @@ v1::ViewSpec only_given_fields(v1::ViewSpec full, const YAML::Node& node) {
 
 std::vector<v1::ViewSpec> views_from_yaml(const YamlReader& reader) {
   const std::vector<ViewSpec> parsed = parse_views(reader);  // checks keys, types, values
+  for (const auto& v : parsed) {
+    // The API's ViewSpec has no depth field yet: sending the rest would make a fixed view.
+    if (v.depth == Depth::kMeasured) {
+      throw std::invalid_argument("view '" + v.name +
+                                  "': depth: measured is not served by the daemon yet (offline: omniview render --cloud)");
+    }
+  }
   const YAML::Node& root = reader.root();
   std::vector<YAML::Node> nodes;
   if (root["views"]) {

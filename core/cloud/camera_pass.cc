@@ -1,5 +1,6 @@
 // One camera's pass over the cloud: projection into its image and the depth buffer that
 // says which points a nearer surface hides (see CloudColourer in colourer.h).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -63,6 +64,27 @@ template <typename Model>
 }
 
 }  // namespace
+
+double pixels_per_radian(const Camera& cam) {
+  const double cx = (cam.width - 1) / 2.0, cy = (cam.height - 1) / 2.0;
+  Eigen::Vector3d a, b;
+  if (unproject(cam.model, Eigen::Vector2d(static_cast<float>(cx), static_cast<float>(cy)), a) &&
+      unproject(cam.model, Eigen::Vector2d(static_cast<float>(cx) + 1, static_cast<float>(cy)), b)) {
+    const double angle = std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+    if (angle > 0) return 1.0 / angle;
+    return 1;
+  }
+  return cam.width / M_PI;
+}
+
+void size_depth_buffer(CameraPass& pass, const Camera& cam, double px_per_rad, double cell_deg, int reach) {
+  const float cell = std::max(1.0f, float(px_per_rad * cell_deg * M_PI / 180));
+  pass.inv_cell = 1.f / cell;
+  pass.reach = reach;
+  pass.offset = static_cast<float>(reach);
+  pass.rows = static_cast<int>(cam.height * pass.inv_cell) + 1 + 2 * reach;
+  pass.cols = static_cast<int>(cam.width * pass.inv_cell) + 1 + 2 * reach;
+}
 
 // Compiled for baseline x86-64 and for AVX2 (picked at load).
 OMNIVIEW_MULTIVERSION

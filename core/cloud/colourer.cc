@@ -43,14 +43,7 @@ CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(ri
     s->cx = static_cast<float>((cam.width - 1) / 2.0);
     s->cy = static_cast<float>((cam.height - 1) / 2.0);
     s->inv_half_diag2 = 4.0f / static_cast<float>(cam.width * cam.width + cam.height * cam.height);
-    // Pixels per radian near the image centre, from two neighbouring rays.
-    Eigen::Vector3d a, b;
-    if (unproject(cam.model, Eigen::Vector2d(s->cx, s->cy), a) && unproject(cam.model, Eigen::Vector2d(s->cx + 1, s->cy), b)) {
-      const double angle = std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
-      if (angle > 0) s->px_per_rad = 1.0 / angle;
-    } else {
-      s->px_per_rad = cam.width / M_PI;
-    }
+    s->px_per_rad = cloud_internal::pixels_per_radian(cam);
     cameras_.push_back(std::move(s));
   }
 }
@@ -163,14 +156,7 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
     const Pose motion_fix = sync ? motion->relative(t_cam, cloud.stamp) : Pose::Identity();
     T_cam_cloud[c] = to_float(rig.camera_pose(base, c).inverse() * motion_fix * *T_base_cloud);
     pass.seen.resize(ranges);
-    const float cell = std::max(1.0f, float(s.px_per_rad * options.occlusion_cell_deg * M_PI / 180));
-    pass.inv_cell = 1.f / cell;
-    // The buffer reaches `reach` cells past the image on every side, so that a surface just
-    // outside the picture still covers what lies behind it at the picture's edge.
-    pass.reach = reach;
-    pass.offset = static_cast<float>(reach);
-    pass.rows = static_cast<int>(cam.height * pass.inv_cell) + 1 + 2 * reach;
-    pass.cols = static_cast<int>(cam.width * pass.inv_cell) + 1 + 2 * reach;
+    cloud_internal::size_depth_buffer(pass, cam, s.px_per_rad, options.occlusion_cell_deg, reach);
     pass.depth.resize(options.occlusion ? ranges : 0);
   }
   // A camera's last range to finish merges its depth buffers and finds what covers each

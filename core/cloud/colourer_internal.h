@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "core/camera/camera.h"
 #include "core/cloud/colourer.h"
 
 namespace omniview {
@@ -75,6 +76,15 @@ struct CameraPass {
     return occluder[size_t(static_cast<int>(v * inv_cell + offset)) * cols + static_cast<int>(u * inv_cell + offset)];
   }
 };
+
+// Pixels per radian near the camera's image centre, from two neighbouring rays (the depth
+// buffer's cell size in pixels is this times the cell's angle).
+double pixels_per_radian(const Camera& camera);
+
+// Sizes `pass`'s depth buffer for `camera`: cells of `cell_deg` (at least a pixel), reaching
+// `reach` cells past the image on every side, so that a surface just outside the picture
+// still covers what lies behind it at the picture's edge.
+void size_depth_buffer(CameraPass& pass, const Camera& camera, double px_per_rad, double cell_deg, int reach);
 
 // Bilinear sample at (u, v) inside [0, W-1] x [0, H-1]; R, G, B out.
 [[gnu::always_inline]] inline void sample(const cv::Mat& image, float u, float v, float rgb[3]) {

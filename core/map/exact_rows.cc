@@ -40,7 +40,7 @@ float band_narrowing(const CameraSetup& a, const CameraSetup& b, const RowScratc
 // binary still runs everywhere; other architectures build it once.
 OMNIVIEW_MULTIVERSION
 void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, bool blend, FusionMap& map,
-                      int row_begin, int row_end) {
+                      int row_begin, int row_end, const Occlusion* occlusion) {
   const int w = map.width;
   RowScratch s(w);
   std::vector<float> best(w), second(w);
@@ -61,6 +61,12 @@ void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, 
         for (int i = 0; i < w; ++i) {
           if (s.score[i] != kInvalid && !mask_allows(*c.camera, s.u[i], s.v[i])) s.score[i] = kInvalid;
         }
+      }
+      // Here, where the camera is chosen: one rule for nearest-centre and blend alike.
+      if (occlusion && !occlusion->cameras[ci].empty()) {
+        const uint8_t* judged = occlusion->judged.empty() ? nullptr : &occlusion->judged[size_t(row) * w];
+        drop_hidden(c, occlusion->cameras[ci], *occlusion, w, judged, s.x.data(), s.y.data(), s.z.data(), s.u.data(),
+                    s.v.data(), s.score.data());
       }
       if (!blend) {
         select_nearest(c, static_cast<uint32_t>(ci), w, s.u.data(), s.v.data(), s.score.data(), best.data(),

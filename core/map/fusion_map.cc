@@ -65,7 +65,8 @@ double FusionMap::coverage() const {
   return static_cast<double>(seen) / static_cast<double>(primary.size());
 }
 
-FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sampling sampling) {
+FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sampling sampling,
+                    const Occlusion* occlusion) {
   const auto& cameras = rig.cameras();
   if (cameras.size() >= kNoCamera) {
     throw std::invalid_argument("a rig may have at most 254 cameras, this one has " + std::to_string(cameras.size()));
@@ -76,6 +77,14 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
     throw std::invalid_argument("view '" + spec.name + "': frame '" + frame + "' is not in the rig");
   }
   const bool blend = spec.fusion == Fusion::kBlend;
+  if (occlusion && occlusion->cameras.size() != cameras.size()) {
+    throw std::invalid_argument("view '" + spec.name + "': occlusion for " + std::to_string(occlusion->cameras.size()) +
+                                " cameras, the rig has " + std::to_string(cameras.size()));
+  }
+  if (occlusion && !occlusion->judged.empty() &&
+      occlusion->judged.size() != size_t(view.width()) * size_t(view.height())) {
+    throw std::invalid_argument("view '" + spec.name + "': occlusion's pixel mask is not the view's size");
+  }
   const Pose T_frame_view = spec.T_frame_view();
   std::vector<CameraSetup> setups;
   for (size_t i = 0; i < cameras.size(); ++i) {
@@ -91,7 +100,8 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
   map.height = view.height();
   map.fusion = spec.fusion;
   const size_t n = static_cast<size_t>(map.width) * static_cast<size_t>(map.height);
-  const bool exact = blend || precision == MapPrecision::kExact || map.width < 2 || map.height < 2;
+  // Measured depth has steps the adaptive builder's smoothness test was not made for.
+  const bool exact = blend || occlusion || spec.depth == Depth::kMeasured || precision == MapPrecision::kExact || map.width < 2 || map.height < 2;
   if (cameras.empty()) {
     // A rig whose cameras are not known yet (a robot that has not answered): all black.
     map.primary.assign(n, kBlackEntry);
@@ -132,7 +142,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
   };
   if (exact) {
     cv::parallel_for_(cv::Range(0, map.height), [&](const cv::Range& rows) {
-      build_rows_exact(view, setups, blend, map, rows.start, rows.end);
+      build_rows_exact(view, setups, blend, map, rows.start, rows.end, occlusion);
       mark_used(rows.start, rows.end);
     });
   } else {

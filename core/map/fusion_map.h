@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/rig/camera_index.h"
+#include "core/map/occlusion.h"
 #include "core/rig/rig.h"
 #include "core/view/view.h"
 
@@ -90,7 +91,11 @@ enum class Sampling { kFootprint, kBilinear };
 // Builds the map for `view` over `rig`, using the view's fusion policy. Runs on OpenCV's
 // thread pool (cv::setNumThreads sets its size). Throws std::invalid_argument if the
 // view's frame is not connected to the cameras or the rig has more than 254 cameras.
+// `occlusion` (optional, one entry per rig camera): a camera whose covering depth hides a
+// pixel's surface point does not compete for it, so a point every camera sees hidden is
+// black. Maps with occlusion are built exactly (the adaptive builder's interpolation
+// assumes a smooth surface, which measured depth is not).
 FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision = MapPrecision::kAdaptive,
-                    Sampling sampling = Sampling::kFootprint);
+                    Sampling sampling = Sampling::kFootprint, const Occlusion* occlusion = nullptr);
 
 }  // namespace omniview

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <variant>
@@ -148,9 +149,25 @@ inline bool mask_allows(const Camera& c, float u, float v) {
   return c.mask.at<uint8_t>(static_cast<int>(v + 0.5f), static_cast<int>(u + 0.5f)) > 127;
 }
 
-// Rows [row_begin, row_end) computed exactly, pixel by pixel (and the blend policy).
+// Rows [row_begin, row_end) computed exactly, pixel by pixel (and the blend policy); with
+// `occlusion`, a camera competes only for the points it sees unhidden.
 void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, bool blend, FusionMap& map,
-                      int row_begin, int row_end);
+                      int row_begin, int row_end, const Occlusion* occlusion = nullptr);
+
+// Marks score[i] invalid where `occluder` hides row point i from camera c (occlusion.h).
+// `judged`: the row's entries of Occlusion::judged, or null for all.
+inline void drop_hidden(const CameraSetup& c, const CameraOccluder& occluder, const Occlusion& rule, int n,
+                        const uint8_t* judged, const float* x, const float* y, const float* z, const float* u,
+                        const float* v, float* score) {
+  for (int i = 0; i < n; ++i) {
+    if (score[i] == kInvalid || (judged && !judged[i])) continue;
+    const float xc = c.R[0] * x[i] + c.R[1] * y[i] + c.R[2] * z[i] + c.t[0];
+    const float yc = c.R[3] * x[i] + c.R[4] * y[i] + c.R[5] * z[i] + c.t[1];
+    const float zc = c.R[6] * x[i] + c.R[7] * y[i] + c.R[8] * z[i] + c.t[2];
+    const float range = std::sqrt(xc * xc + yc * yc + zc * zc);
+    if (hidden_behind(range, occluder.at(u[i], v[i]), rule.tolerance_rel, rule.tolerance_m)) score[i] = kInvalid;
+  }
+}
 
 // The adaptive builder's block size (adaptive/bands.h).
 inline constexpr int kBlock = 8;

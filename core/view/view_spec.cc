@@ -62,6 +62,15 @@ Fusion fusion_from_string(const std::string& s, const std::string& what) {
   throw std::invalid_argument((what.empty() ? "" : what + ": ") + "unknown fusion '" + s + "' (nearest or blend)");
 }
 
+std::string to_string(Depth d) { return d == Depth::kMeasured ? "measured" : "fixed"; }
+
+Depth depth_from_string(const std::string& s, const std::string& what) {
+  if (s == "fixed") return Depth::kFixed;
+  if (s == "measured") return Depth::kMeasured;
+  throw std::invalid_argument((what.empty() ? "" : what + ": ") + "unknown depth '" + s +
+                              "' (fixed: the view's own surface; measured: the surface follows measured points)");
+}
+
 Pose ViewSpec::T_frame_view() const {
   Vec3 p = position;
   if (type == ViewType::kBirdseye) p.z() = ground_z + height_m;
@@ -161,6 +170,8 @@ void validate(const ViewSpec& s) {
   if (s.type != ViewType::kPerspective && s.type != ViewType::kBirdseye) {
     check(s.radius > 0 && s.radius <= kMaxViewLength_m, s, "radius", "must be in (0, 10000] m, got " + num(s.radius));
   }
+  check(s.depth == Depth::kFixed || s.depth == Depth::kMeasured, s, "depth",
+        "must be fixed or measured, got " + std::to_string(static_cast<int>(s.depth)));
   check(s.feather_px > 0 && s.feather_px <= kMaxViewSide, s, "feather_px",
         "must be in (0, " + std::to_string(kMaxViewSide) + "], got " + num(s.feather_px));
 }

@@ -13,12 +13,18 @@ namespace omniview {
 
 enum class ViewType { kPerspective, kBirdseye, kCylindrical, kMercator, kEquirectangular, kFisheye };
 enum class Fusion { kNearestCentre, kBlend };
+// Where each pixel's surface point comes from: the type's fixed surface (plane, cylinder,
+// sphere, ground), or the measured geometry (a lidar cloud, depth points) where there is
+// some near the pixel's ray, the fixed surface elsewhere (core/depth/measured_depth_view.h).
+enum class Depth { kFixed, kMeasured };
 
 const std::vector<std::string>& view_type_names();  // in ViewType order
 std::string to_string(ViewType t);
 ViewType view_type_from_string(const std::string& s, const std::string& what);
 std::string to_string(Fusion f);
 Fusion fusion_from_string(const std::string& s, const std::string& what);
+std::string to_string(Depth d);  // "fixed", "measured"
+Depth depth_from_string(const std::string& s, const std::string& what);
 
 constexpr int kMaxViewSide = 16384;
 // Bounds on what a client may ask for (the config and the API share them, see validate()).
@@ -55,6 +61,10 @@ struct ViewSpec {
   double azimuth_span_deg = 360;  // cylindrical, mercator, equirectangular
   double lat_min_deg = -90, lat_max_deg = 90;  // equirectangular (mercator defaults to +-80)
   double fov_deg = 180;        // fisheye
+
+  // `measured`: the surface follows measured points (offline: `omniview render --cloud`);
+  // the daemon and the API do not serve it yet. `fixed` is every earlier version's surface.
+  Depth depth = Depth::kFixed;
 
   Fusion fusion = Fusion::kNearestCentre;
   double feather_px = 24;      // blend: distance from a camera's usable border at full weight

@@ -53,7 +53,7 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
   r.expect_keys(n, path, {"name", "type", "width", "height", "frame", "pose", "hfov_deg", "distance", "height_m",
                           "ground_z", "radius", "vfov_deg", "azimuth_span_deg", "lat_min_deg", "lat_max_deg",
                           "fov_deg", "fusion", "feather_px", "gain_compensation", "source", "overlay",
-                          "overlay_opacity", "ground"});
+                          "overlay_opacity", "ground", "depth"});
   const auto key = [&](const char* k) { return path.empty() ? std::string(k) : path + "." + k; };
   ViewSpec s = default_view_spec([&] {
     const YAML::Node t = r.required(n, "type", path);
@@ -99,6 +99,13 @@ ViewSpec parse_view(const YamlReader& r, const YAML::Node& n, const std::string&
       s.fusion = fusion_from_string(r.text(n["fusion"], key("fusion")), "");
     } catch (const std::invalid_argument& e) {
       r.fail(n["fusion"], key("fusion"), e.what());
+    }
+  }
+  if (n["depth"]) {
+    try {
+      s.depth = depth_from_string(r.text(n["depth"], key("depth")), "");
+    } catch (const std::invalid_argument& e) {
+      r.fail(n["depth"], key("depth"), e.what());
     }
   }
   try {
@@ -188,6 +195,8 @@ YAML::Node view_to_yaml(const ViewSpec& s) {
     n["ground"] = true;
     n["ground_z"] = number(s.ground_z);
   }
+  // Only when measured: files written for fixed views stay as every earlier version wrote them.
+  if (s.depth == Depth::kMeasured) n["depth"] = to_string(s.depth);
   n["fusion"] = to_string(s.fusion);
   n["feather_px"] = number(s.feather_px);
   n["gain_compensation"] = s.gain_compensation;

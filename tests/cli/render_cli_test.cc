@@ -359,3 +359,71 @@ TEST_F(RenderCli, MakeExamplesHelp) {
 }
 
 }  // namespace
+
+// ---- depth: measured with --cloud ----
+
+namespace {
+
+// An ascii PLY of a wall x = 3 m in front of the rig (y -2..2, z 0..2), with `extra` lines
+// appended as more vertices (the header counts them).
+std::string wall_ply(const std::vector<std::string>& extra = {}) {
+  std::string body;
+  size_t n = 0;
+  for (int i = 0; i <= 40; ++i) {
+    for (int j = 0; j <= 20; ++j, ++n) body += "3 " + std::to_string(-2 + 0.1 * i) + " " + std::to_string(0.1 * j) + "\n";
+  }
+  for (const auto& e : extra) body += e + "\n", ++n;
+  return "ply\nformat ascii 1.0\nelement vertex " + std::to_string(n) +
+         "\nproperty float x\nproperty float y\nproperty float z\nend_header\n" + body;
+}
+
+}  // namespace
+
+TEST_F(RenderCli, AMeasuredDepthViewStandsOnTheCloudAndSaysHowMuch) {
+  write("measured.yaml", "name: front\ntype: perspective\nwidth: 64\nheight: 32\nhfov_deg: 60\ndepth: measured\n"
+                         "pose: {xyz: [0, 0, 1]}\n");
+  write("wall.ply", wall_ply({"nan nan nan", "inf 0 0"}));
+  const auto r = run(base_args() + " --view " + path("measured.yaml") + " --cloud " + path("wall.ply") + " --out " +
+                     path("out.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("% on measured depth"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("2 NaN/inf skipped"), std::string::npos) << r.output;
+  const cv::Mat out = omniview::read_image(path("out.png"));
+  ASSERT_EQ(out.cols, 64);
+  EXPECT_EQ(out.at<cv::Vec3b>(16, 32), cv::Vec3b(10, 200, 30));  // the front camera's colour
+}
+
+TEST_F(RenderCli, BadCloudsAndMissingCloudsAreClearErrors) {
+  write("measured.yaml", "name: m\ntype: perspective\nwidth: 64\nheight: 32\nhfov_deg: 60\ndepth: measured\n");
+  const std::string measured = base_args() + " --view " + path("measured.yaml") + " --out " + path("out.png");
+  auto r = run(measured);
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("has depth: measured: give the points it stands on with --cloud FILE"), std::string::npos)
+      << r.output;
+
+  write("broken.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n");
+  r = run(measured + " --cloud " + path("broken.ply"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("broken.ply"), std::string::npos) << r.output;
+
+  write("empty.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\n"
+                     "end_header\n");
+  r = run(measured + " --cloud " + path("empty.ply"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("empty.ply: the cloud has no points"), std::string::npos) << r.output;
+
+  write("wall.ply", wall_ply());
+  r = run(measured + " --cloud " + path("wall.ply") + " --cloud-frame lidar");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("wall.ply: its frame 'lidar' (--cloud-frame) is not a frame of the rig"), std::string::npos)
+      << r.output;
+
+  r = run(measured + " --cloud " + path("missing.ply"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("missing.ply"), std::string::npos) << r.output;
+
+  // A cloud with no view to use it is a mistake worth saying.
+  r = run(base_args() + " --view " + path("view.yaml") + " --out " + path("out.png") + " --cloud " + path("wall.ply"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("none of the views has it"), std::string::npos) << r.output;
+}

@@ -83,5 +83,22 @@ TEST(ViewYaml, GroundCutsAnySurfaceButTheBirdseyesAndIsWrittenBack) {
   expect_error("below.yaml", "type: perspective\nground: true\nground_z: 2\n", {"below.yaml:", "above the ground plane"});
 }
 
+TEST(ViewYaml, DepthIsFixedByDefaultMeasuredOnRequestAndWrittenBackOnlyWhenMeasured) {
+  const auto views = parse_views(YamlReader::from_string(
+      "views:\n  - {name: f, type: perspective}\n  - {name: m, type: birdseye, depth: measured}\n"
+      "  - {name: x, type: fisheye, depth: fixed}\n",
+      "depth.yaml"));
+  ASSERT_EQ(views.size(), 3u);
+  EXPECT_EQ(views[0].depth, Depth::kFixed);
+  EXPECT_EQ(views[1].depth, Depth::kMeasured);
+  EXPECT_EQ(views[2].depth, Depth::kFixed);
+  EXPECT_FALSE(view_to_yaml(views[0])["depth"]);  // fixed views' files stay as they were
+  EXPECT_EQ(view_to_yaml(views[1])["depth"].as<std::string>(), "measured");
+  expect_error("depth.yaml", "type: perspective\ndepth: lidar\n",
+               {"depth.yaml:2: depth:", "unknown depth 'lidar'", "fixed", "measured"});
+  expect_error("list.yaml", "views:\n  - {name: a, type: perspective, depth: [measured]}\n",
+               {"list.yaml:2: views[0].depth:"});
+}
+
 }  // namespace
 }  // namespace omniview

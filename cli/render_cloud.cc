@@ -1,0 +1,51 @@
+#include "cli/render_cloud.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "core/cloud/cloud_file.h"
+
+namespace omniview::cli {
+
+RenderCloud load_render_cloud(const Args& args, const Rig& rig) {
+  RenderCloud out;
+  out.file = args.get("cloud");
+  const std::string what = "--cloud " + out.file;
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(out.file, ec);
+  if (ec) throw std::runtime_error(what + ": cannot read it (" + ec.message() + ")");
+  if (bytes > kMaxCloudFileBytes) {
+    throw std::runtime_error(what + ": " + std::to_string(bytes) + " bytes, more than the limit of " +
+                             std::to_string(kMaxCloudFileBytes) + " (2 GiB)");
+  }
+  PointCloud cloud;
+  try {
+    cloud = load_cloud(out.file);
+  } catch (const std::exception& e) {
+    // The readers name the file already; say which option it came from too.
+    throw std::runtime_error(std::string("--cloud: ") + e.what());
+  }
+  if (cloud.empty()) throw std::runtime_error(what + ": the cloud has no points");
+  if (cloud.size() > kMaxCloudPoints) {
+    throw std::runtime_error(what + ": " + std::to_string(cloud.size()) + " points, more than the limit of " +
+                             std::to_string(kMaxCloudPoints));
+  }
+  out.frame = args.has("cloud-frame") ? args.get("cloud-frame") : cloud.frame.empty() ? rig.default_frame() : cloud.frame;
+  const std::vector<std::string> known = rig.known_frames();
+  if (std::find(known.begin(), known.end(), out.frame) == known.end()) {
+    throw std::runtime_error(what + ": its frame '" + out.frame + "' (" +
+                             (args.has("cloud-frame") ? "--cloud-frame" : "recorded in the file") +
+                             ") is not a frame of the rig (known frames: " + joined(known) + ")");
+  }
+  out.points = std::move(cloud.points);
+  out.non_finite = static_cast<size_t>(
+      std::count_if(out.points.begin(), out.points.end(), [](const Eigen::Vector3f& p) { return !p.allFinite(); }));
+  if (out.non_finite == out.points.size()) {
+    throw std::runtime_error(what + ": none of its " + std::to_string(out.points.size()) +
+                             " points is finite (all NaN or infinite)");
+  }
+  return out;
+}
+
+}  // namespace omniview::cli

@@ -1,0 +1,141 @@
+#include "core/depth/camera_occluders.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <opencv2/core/utility.hpp>
+
+#include "core/cloud/colourer_internal.h"
+#include "core/depth/gap_fill.h"
+
+namespace omniview {
+
+CameraRangeImages::CameraRangeImages(const Rig& rig, double cell_deg) : rig_(rig) {
+  for (const Camera& cam : rig.cameras()) {
+    // The colourer's buffer layout without its margin (gap filling needs no samples past
+    // the image).
+    cloud_internal::CameraPass pass;
+    cloud_internal::size_depth_buffer(pass, cam, cloud_internal::pixels_per_radian(cam), cell_deg, 0);
+    Grid g;
+    g.inv_cell = pass.inv_cell;
+    const float cell = 1.f / pass.inv_cell;
+    ViewRays& rays = g.rays;  // one ray per cell, for gap filling
+    rays.width = pass.cols;
+    rays.height = pass.rows;
+    rays.pixel_rad = cell_deg * M_PI / 180;
+    const size_t cells = size_t(pass.rows) * size_t(pass.cols);
+    rays.x.resize(cells);
+    rays.y.resize(cells);
+    rays.z.resize(cells);
+    rays.valid.resize(cells);
+    for (int r = 0; r < pass.rows; ++r) {
+      for (int k = 0; k < pass.cols; ++k) {
+        Eigen::Vector3d ray;
+        const size_t i = size_t(r) * pass.cols + k;
+        rays.valid[i] = unproject(cam.model, Eigen::Vector2d((k + 0.5) * cell - 0.5, (r + 0.5) * cell - 0.5), ray) &&
+                        ray.norm() > 0;
+        const Eigen::Vector3d unit = rays.valid[i] ? Eigen::Vector3d(ray.normalized()) : Eigen::Vector3d::Zero();
+        rays.x[i] = float(unit.x()), rays.y[i] = float(unit.y()), rays.z[i] = float(unit.z());
+      }
+    }
+    grids_.push_back(std::move(g));
+  }
+}
+
+Occlusion CameraRangeImages::occluders(const std::vector<Eigen::Vector3f>& points, const std::string& points_frame,
+                                       const Pose& T_frame_points, const DepthOptions& depth, float tolerance_rel,
+                                       float tolerance_m) const {
+  const auto& cameras = rig_.cameras();
+  for (const auto& cam : cameras) {
+    if (!rig_.frames().try_lookup(points_frame, cam.name)) {
+      throw std::invalid_argument("occlusion: the points' frame '" + points_frame + "' is not connected to camera '" +
+                                  cam.name + "'");
+    }
+  }
+  Occlusion occlusion;
+  occlusion.tolerance_rel = tolerance_rel;
+  occlusion.tolerance_m = tolerance_m;
+  occlusion.cameras.resize(cameras.size());
+  const size_t n = points.size();
+  std::vector<float> x(n), y(n), z(n);
+  for (size_t i = 0; i < n; ++i) x[i] = points[i].x(), y[i] = points[i].y(), z[i] = points[i].z();
+  cv::parallel_for_(cv::Range(0, static_cast<int>(cameras.size())), [&](const cv::Range& range) {
+    for (int c = range.start; c < range.end; ++c) {
+      const Camera& cam = cameras[c];
+      const Grid& g = grids_[c];
+      const int rows = g.rays.height, cols = g.rays.width;
+      const size_t cells = g.rays.size();
+      // Splat: nearest range per cell.
+      std::vector<float> range_image(cells, 0.f);
+      const Eigen::Matrix<float, 3, 4> T =
+          (rig_.camera_pose(points_frame, c).inverse() * T_frame_points).matrix().topRows<3>().cast<float>();
+      constexpr size_t kBlock = 1024;
+      float u[kBlock], v[kBlock], rr[kBlock];
+      uint8_t valid[kBlock];
+      for (size_t b = 0; b < n; b += kBlock) {
+        const size_t m = std::min(kBlock, n - b);
+        cloud_internal::project_camera(cam.model, T, x.data() + b, y.data() + b, z.data() + b, m, float(cam.width - 1),
+                                       float(cam.height - 1), u, v, rr, valid);
+        for (size_t i = 0; i < m; ++i) {
+          if (!(valid[i] & 1)) continue;
+          const size_t k = size_t(static_cast<int>(v[i] * g.inv_cell)) * cols + static_cast<int>(u[i] * g.inv_cell);
+          if (range_image[k] == 0.f || rr[i] < range_image[k]) range_image[k] = rr[i];
+        }
+      }
+      DepthStats ignored;
+      const std::vector<float> filled = fill_gaps(g.rays, range_image, depth, ignored);
+      // A cell covers what lies behind it only where its neighbours are as near: at an
+      // object's silhouette a cell holds both the object and what is beside it, and the
+      // z-buffer's nearest would blacken the visible side along every edge.
+      const float far = std::numeric_limits<float>::max();
+      std::vector<float> cover(cells, far);
+      for (int r = 1; r + 1 < rows; ++r) {
+        for (int k = 1; k + 1 < cols; ++k) {
+          float m = 0.f;
+          for (int dr = -1; dr <= 1; ++dr) {
+            for (int dk = -1; dk <= 1; ++dk) {
+              const float f = filled[size_t(r + dr) * cols + (k + dk)];
+              m = std::max(m, f > 0.f ? f : far);
+            }
+          }
+          cover[size_t(r) * cols + k] = m;
+        }
+      }
+      CameraOccluder& out = occlusion.cameras[c];
+      out.assign_row_major(cover, rows, cols);
+      out.inv_cell = g.inv_cell;
+      out.offset = 0;
+    }
+  });
+  return occlusion;
+}
+
+Occlusion view_occlusion(const CameraRangeImages& cameras, const MeasuredDepthView& view,
+                         const std::vector<Eigen::Vector3f>& points, const Pose& T_view_points,
+                         const ViewOcclusionOptions& options) {
+  const Rig& rig = cameras.rig();
+  const int surface_step = options.surface_step;
+  const ViewSpec& spec = view.spec();
+  const std::string frame = spec.frame.empty() ? rig.default_frame() : spec.frame;
+  std::vector<Eigen::Vector3f> all;
+  all.reserve(points.size() + view.width() * view.height() / (surface_step * surface_step));
+  const Eigen::Matrix3f R = T_view_points.linear().cast<float>();
+  const Eigen::Vector3f t = T_view_points.translation().cast<float>();
+  for (const auto& p : points) all.push_back(R * p + t);  // NaN stays NaN and drops out
+  const int step = std::max(1, surface_step);
+  for (int v = 0; v < view.height(); v += step) {
+    for (int u = 0; u < view.width(); u += step) {
+      if (view.measured_at(u, v) != 255) continue;
+      Vec3 p;
+      if (view.pixel_to_point(u, v, p)) all.push_back(p.cast<float>());
+    }
+  }
+  Occlusion occlusion =
+      cameras.occluders(all, frame, spec.T_frame_view(), options.fill, options.tolerance_rel, options.tolerance_m);
+  occlusion.judged = view.occlusion_judged();
+  return occlusion;
+}
+
+}  // namespace omniview

@@ -1,0 +1,93 @@
+#include "core/depth/measured_depth_view.h"
+
+#include <cmath>
+
+#include "core/depth/fallback_blend.h"
+#include "core/depth/gap_fill.h"
+#include "core/depth/range_splat.h"
+
+namespace omniview {
+
+MeasuredDepthView::MeasuredDepthView(std::shared_ptr<const ViewRays> rays, std::vector<float> range,
+                                     std::vector<uint8_t> measured)
+    : View(rays->view->spec()), rays_(std::move(rays)), range_(std::move(range)), measured_(std::move(measured)) {
+  if (range_.size() != rays_->size() || measured_.size() != rays_->size()) {
+    throw std::invalid_argument("view '" + spec_.name + "': measured depth of the wrong size");
+  }
+}
+
+bool MeasuredDepthView::pixel_to_direction(double u, double v, Vec3& dir) const {
+  return rays_->view->pixel_to_direction(u, v, dir);
+}
+
+bool MeasuredDepthView::point_to_pixel(const Vec3& point, Vec2& uv) const {
+  return rays_->view->point_to_pixel(point, uv);
+}
+
+std::vector<uint8_t> MeasuredDepthView::occlusion_judged() const {
+  std::vector<uint8_t> judged(measured_.size());
+  for (size_t i = 0; i < judged.size(); ++i) {
+    judged[i] = measured_[i] == 255 || (measured_[i] == 0 && rays_->fixed_on_ground[i]);
+  }
+  return judged;
+}
+
+double MeasuredDepthView::measured_fraction() const {
+  size_t on = 0;
+  for (uint8_t m : measured_) on += m > 0;
+  return measured_.empty() ? 0 : double(on) / double(measured_.size());
+}
+
+double MeasuredDepthView::surface_range(const Vec3& unit_dir) const {
+  // The range of the pixel this direction falls in (pixel_to_point asks per pixel anyway).
+  Vec2 uv;
+  if (!rays_->view->point_to_pixel(unit_dir, uv)) return -1;
+  const int u = std::clamp(static_cast<int>(std::lround(uv.x())), 0, width() - 1);
+  const int v = std::clamp(static_cast<int>(std::lround(uv.y())), 0, height() - 1);
+  const float r = range_at(u, v);
+  return r > 0.f ? r : -1;
+}
+
+void MeasuredDepthView::surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const {
+  const size_t row = size_t(v) * width();
+  const ViewRays& r = *rays_;
+  for (int u = 0; u < width(); ++u) {
+    const size_t i = row + u;
+    const float range = range_[i];
+    x[u] = range * r.x[i];
+    y[u] = range * r.y[i];
+    z[u] = range * r.z[i];
+    valid[u] = r.valid[i] && range > 0.f;
+  }
+}
+
+void MeasuredDepthView::surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z,
+                                          uint8_t* valid) const {
+  const size_t row = size_t(v) * width();
+  const ViewRays& r = *rays_;
+  for (int k = 0; k < n; ++k) {
+    const size_t i = row + columns[k];
+    const float range = range_[i];
+    x[k] = range * r.x[i];
+    y[k] = range * r.y[i];
+    z[k] = range * r.z[i];
+    valid[k] = r.valid[i] && range > 0.f;
+  }
+}
+
+DepthSurface::DepthSurface(const ViewSpec& spec, const DepthOptions& options)
+    : rays_(make_view_rays(View::create(spec))), options_(options) {}
+
+std::shared_ptr<const MeasuredDepthView> DepthSurface::update(const std::vector<Eigen::Vector3f>& points,
+                                                              const Pose& T_view_points, DepthStats* stats) const {
+  DepthStats local;
+  DepthStats& s = stats ? *stats : local;
+  const std::vector<float> splatted = splat_points(*rays_, points, T_view_points, s);
+  const std::vector<float> filled = fill_gaps(*rays_, splatted, options_, s);
+  BlendedSurface surface = blend_with_fixed(*rays_, filled, options_);
+  s.measured_pixels += surface.measured_pixels;
+  s.blended_pixels += surface.blended_pixels;
+  return std::make_shared<MeasuredDepthView>(rays_, std::move(surface.range), std::move(surface.measured));
+}
+
+}  // namespace omniview

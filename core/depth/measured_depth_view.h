@@ -1,0 +1,76 @@
+// A view whose surface follows measured geometry (`depth: measured`, DESIGN.md "Measured
+// depth"): each pixel's surface point lies on its ray at the range the measured points give
+// (splatted with a z-buffer, gaps joined), the view's fixed surface where nothing was
+// measured near the ray, blended between the two. It is a View like any other, so
+// build_map, point_to_pixel and the clients' overlays work on it unchanged.
+//
+//   DepthSurface surface(spec);                                 // once per view change
+//   auto view = surface.update(points, T_view_points, &stats);  // per geometry update
+//   build_map(rig, *view, MapPrecision::kExact, Sampling::kFootprint, &occlusion);
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/depth/depth_options.h"
+#include "core/depth/view_rays.h"
+#include "core/geometry/pose.h"
+#include "core/view/view.h"
+
+namespace omniview {
+
+class MeasuredDepthView : public View {
+ public:
+  // `range`: per pixel along its ray (0: no surface point); `measured`: share of measured
+  // depth per pixel, 0..255.
+  MeasuredDepthView(std::shared_ptr<const ViewRays> rays, std::vector<float> range, std::vector<uint8_t> measured);
+
+  bool pixel_to_direction(double u, double v, Vec3& dir) const override;
+  bool point_to_pixel(const Vec3& point, Vec2& uv) const override;
+
+  // Range along pixel (u, v)'s ray (0: none), and how much of it is measured (0..255).
+  float range_at(int u, int v) const { return range_[size_t(v) * width() + u]; }
+  uint8_t measured_at(int u, int v) const { return measured_[size_t(v) * width() + u]; }
+  // For Occlusion::judged: where the surface is geometry, not a guess: measured, or the
+  // fixed surface where it is the ground (the floor behind a pillar a camera sees the pillar
+  // over). Not the blend band, nor a fixed plane, cylinder or sphere: a point of those a
+  // camera sees behind a measured object is most often that object going on past its last
+  // measured ring, and black there would hide what the camera plainly sees.
+  std::vector<uint8_t> occlusion_judged() const;
+  // Fraction of the view's pixels that stand on measured depth (blend band included).
+  double measured_fraction() const;
+
+ protected:
+  double surface_range(const Vec3& unit_dir) const override;
+  void surface_row_points(int v, float* x, float* y, float* z, uint8_t* valid) const override;
+  void surface_points_at(int v, const int* columns, int n, float* x, float* y, float* z,
+                         uint8_t* valid) const override;
+
+ private:
+  std::shared_ptr<const ViewRays> rays_;
+  std::vector<float> range_;
+  std::vector<uint8_t> measured_;
+};
+
+// Makes MeasuredDepthViews of one view spec from successive sets of points: the rays and
+// the fixed surface are computed once, each update costs a splat, a gap fill and a blend.
+class DepthSurface {
+ public:
+  // Throws std::invalid_argument for an invalid spec (validate()).
+  explicit DepthSurface(const ViewSpec& spec, const DepthOptions& options = {});
+
+  // `points` in some frame P; T_view_points places P in the view frame. Non-finite points
+  // are skipped and counted in `stats` (optional). No points: the fixed surface.
+  std::shared_ptr<const MeasuredDepthView> update(const std::vector<Eigen::Vector3f>& points,
+                                                  const Pose& T_view_points, DepthStats* stats = nullptr) const;
+
+  const ViewRays& rays() const { return *rays_; }
+
+ private:
+  std::shared_ptr<const ViewRays> rays_;
+  DepthOptions options_;
+};
+
+}  // namespace omniview

@@ -1,0 +1,154 @@
+// Depth-aware views against the truth (issue 32): the Spot-like rig in a furnished room,
+// its cameras ray-cast, a bird's-eye and a fused front view built three ways: (a) on the
+// view's fixed surface, (b) on measured depth from one VLP-16 rotation, (c) on the exact
+// depth of the scene (a point per view pixel); the truth is what a camera at the view's
+// own pose sees. PSNR over the pixels some camera sees; in the bird's-eye view also the
+// share of the pixels no camera sees that the view paints anyway.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <iostream>
+
+#include "cloud_scene.h"
+#include "core/depth/camera_occluders.h"
+#include "core/depth/measured_depth_view.h"
+#include "core/synthetic/lidar_scan.h"
+#include "depth_scene.h"
+
+namespace omniview {
+namespace {
+
+struct Variants {
+  test::DepthScore fixed, lidar, lidar_no_occlusion, exact, exact_no_occlusion;
+  double lidar_measured = 0;  // share of the view's pixels on measured depth
+};
+
+void report(const std::string& what, const Variants& r) {
+  const auto line = [&](const char* name, const test::DepthScore& s) {
+    std::cout << "[ depth  ] " << what << " " << name << ": PSNR " << s.psnr_db << " dB over " << s.seen
+              << " seen px; unseen painted " << 100 * s.unseen_painted << " % of " << s.unseen << "\n";
+  };
+  line("(a) fixed surface      ", r.fixed);
+  line("(b) one VLP-16 rotation", r.lidar);
+  line("    (b) without occlusion", r.lidar_no_occlusion);
+  line("(c) exact depth        ", r.exact);
+  line("    (c) without occlusion", r.exact_no_occlusion);
+  std::cout << "[ depth  ] " << what << ": " << 100 * r.lidar_measured << " % of pixels on measured depth (b)\n";
+}
+
+Variants run(const ViewSpec& fixed_spec) {
+  const synthetic::Scene scene = test::furnished_room();
+  const auto rig = test::rig_in_world(test::T_world_body());
+  const std::vector<cv::Mat> images = test::render_images(scene, *rig, /*grey=*/true);
+  const test::ViewTruth truth = test::view_truth(scene, *rig, fixed_spec);
+  Variants r;
+  r.fixed = test::score(build_map(*rig, *View::create(fixed_spec), MapPrecision::kAdaptive, Sampling::kBilinear),
+                        images, truth);
+
+  ViewSpec spec = fixed_spec;
+  spec.depth = Depth::kMeasured;
+  const DepthSurface surface(spec);
+  const std::string frame = spec.frame.empty() ? rig->default_frame() : spec.frame;
+  const Pose T_frame_view = spec.T_frame_view();
+
+  // (b) One rotation of the lidar on the body's back, points in its frame.
+  const Pose T_world_lidar = test::T_world_body() * test::T_body_lidar();
+  const PointCloud scan = synthetic::scan_vlp16(scene, T_world_lidar, "lidar", std::chrono::system_clock::time_point{});
+  const Pose T_view_lidar = T_frame_view.inverse() * rig->frames().lookup(frame, "lidar");
+  DepthStats stats;
+  const auto lidar_view = surface.update(scan.points, T_view_lidar, &stats);
+  r.lidar_measured = lidar_view->measured_fraction();
+  const CameraRangeImages range_images(*rig, ViewOcclusionOptions{}.cell_deg);
+  const Occlusion lidar_occlusion = view_occlusion(range_images, *lidar_view, scan.points, T_view_lidar);
+  r.lidar = test::score(build_map(*rig, *lidar_view, MapPrecision::kExact, Sampling::kBilinear, &lidar_occlusion),
+                        images, truth);
+  r.lidar_no_occlusion = test::score(build_map(*rig, *lidar_view, MapPrecision::kExact, Sampling::kBilinear), images,
+                                     truth);
+  std::cout << "[ depth  ] lidar: " << stats.points << " points, " << stats.outside_view << " outside the view, "
+            << stats.splatted_pixels << " px splatted, " << stats.filled_pixels << " filled, " << stats.see_through
+            << " seen through\n";
+
+  // (c) The exact depth: the truth's own hit points for the surface; for the occluders also
+  // the scene sampled densely from the lidar's place (0.25 deg steps, -70 .. +30 deg), which
+  // holds the sides of things the view does not see but the cameras do.
+  std::vector<Eigen::Vector3f> dense = truth.points;
+  const Pose T_view_world = T_view_lidar * T_world_lidar.inverse();
+  for (double el = -70; el <= 30; el += 0.25) {
+    for (double az = 0; az < 360; az += 0.25) {
+      const double e = el * M_PI / 180, a = az * M_PI / 180;
+      const Vec3 dir(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+      const auto hit = scene.intersect(T_world_lidar.translation(), T_world_lidar.linear() * dir);
+      if (hit) dense.push_back((T_view_world * hit->point).cast<float>());
+    }
+  }
+  const auto exact_view = surface.update(truth.points, Pose::Identity());
+  const Occlusion exact_occlusion = view_occlusion(range_images, *exact_view, dense, Pose::Identity());
+  r.exact = test::score(build_map(*rig, *exact_view, MapPrecision::kExact, Sampling::kBilinear, &exact_occlusion),
+                        images, truth);
+  r.exact_no_occlusion = test::score(build_map(*rig, *exact_view, MapPrecision::kExact, Sampling::kBilinear), images,
+                                     truth);
+  return r;
+}
+
+TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
+  ViewSpec v;
+  v.name = "birdseye";
+  v.type = ViewType::kBirdseye;
+  v.width = v.height = 400;
+  v.pitch_deg = 90;
+  v.height_m = 4;
+  v.ground_z = -0.5;  // the floor, in the body frame
+  v.hfov_deg = 100;
+  const Variants r = run(v);
+  report("bird's-eye", r);
+  // Measured (release, this commit; issue targets in brackets):
+  //   (a) fixed ground              30.8 dB, unseen painted 76.7 %
+  //   (b) one VLP-16 rotation       27.1 dB, 57.2 %  (31.6 dB, 74.1 % without occlusion)
+  //   (c) exact depth of the scene  42.7 dB,  4.8 %  (35.5 dB, 54.3 % without occlusion)
+  // With the exact depth the targets hold (>= fixed + 6 dB: +11.8; <= 5 % painted). With
+  // one rotation they do not (>= fixed + 6 dB, within 2 dB of (c), <= 5 %): its rings
+  // leave the pillars' and boxes' lower and upper parts unmeasured, the floor behind them
+  // stays the fixed ground, which the cameras see those objects over (painted), and the
+  // lidar's samples at silhouettes, seen from the cameras' places, blacken some visible
+  // floor (without occlusion it beats the ground by 0.7 dB, but paints what no camera
+  // sees). These bounds guard what works, below the figures by compiler-noise margins.
+  EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 10);
+  EXPECT_GT(r.exact.psnr_db, r.exact_no_occlusion.psnr_db + 5);  // occlusion helps where the geometry is whole
+  EXPECT_LE(r.exact.unseen_painted, 0.06);
+  EXPECT_LT(r.lidar.unseen_painted, r.fixed.unseen_painted - 0.15);
+  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 6);
+  EXPECT_GT(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db);
+}
+
+TEST(DepthGolden, FrontViewOnMeasuredDepth) {
+  // As config/spot.yaml's front view: at the front cameras, pitched down, the floor cut in.
+  ViewSpec v;
+  v.name = "front";
+  v.type = ViewType::kPerspective;
+  v.width = 512;
+  v.height = 256;
+  v.position = Vec3(0.42, 0, 0.02);
+  v.pitch_deg = 27;
+  v.hfov_deg = 100;
+  v.distance = 3;
+  v.ground = true;
+  v.ground_z = -0.5;
+  const Variants r = run(v);
+  report("front", r);
+  // Measured (release, this commit):
+  //   (a) fixed plane, floor cut in 40.9 dB
+  //   (b) one VLP-16 rotation       28.8 dB (42.3 dB without occlusion)
+  //   (c) exact depth of the scene  48.2 dB, unseen painted 37 % (48.2 dB, 100 % without)
+  // On this smooth texture the fixed plane with the floor is already close. Exact depth
+  // gains 7.3 dB (target >= 6: met); one rotation gains 1.4 dB without occlusion and loses
+  // 12 dB with it (target not met): the cameras judge its silhouette samples and the far
+  // samples it saw past objects' edges hidden, and black there costs much PSNR.
+  EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 6);
+  EXPECT_GE(r.exact.psnr_db, r.exact_no_occlusion.psnr_db - 0.5);  // no visible pixel blackened
+  EXPECT_LE(r.exact.unseen_painted, 0.45);
+  EXPECT_GE(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db + 1);
+  EXPECT_GT(r.lidar.psnr_db, 26);
+}
+
+}  // namespace
+}  // namespace omniview

@@ -1,0 +1,218 @@
+// The measured-depth surface piece by piece: splat, gap fill, fallback to the fixed
+// surface, bad points; and occlusion in the map builder.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/depth/camera_occluders.h"
+#include "core/depth/measured_depth_view.h"
+#include "core/map/fusion_map.h"
+
+namespace omniview {
+namespace {
+
+ViewSpec perspective(int w = 200, int h = 100) {
+  ViewSpec s;
+  s.name = "p";
+  s.type = ViewType::kPerspective;
+  s.width = w;
+  s.height = h;
+  s.hfov_deg = 90;
+  s.distance = 5;
+  s.depth = Depth::kMeasured;
+  return s;
+}
+
+// A wall x = d in the view frame sampled like a lidar at the view's centre: rings every
+// `ring_deg` of elevation within +-15 deg (a VLP-16's), a sample every 0.2 deg of azimuth.
+std::vector<Eigen::Vector3f> wall_rings(double d, double ring_deg, double y_min = -10, double y_max = 10) {
+  std::vector<Eigen::Vector3f> points;
+  for (double el = -15; el <= 15.01; el += ring_deg) {
+    for (double az = -50; az <= 50; az += 0.2) {
+      const double e = el * M_PI / 180, a = az * M_PI / 180;
+      const Vec3 dir(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+      const Vec3 p = dir * (d / dir.x());
+      if (p.y() >= y_min && p.y() <= y_max) points.push_back(p.cast<float>());
+    }
+  }
+  return points;
+}
+
+TEST(DepthSurface, WithoutPointsItIsTheFixedSurface) {
+  const ViewSpec spec = perspective();
+  const DepthSurface surface(spec);
+  const auto view = surface.update({}, Pose::Identity());
+  ViewSpec fixed_spec = spec;
+  fixed_spec.depth = Depth::kFixed;
+  const auto fixed = View::create(fixed_spec);
+  std::vector<float> x(spec.width), y(spec.width), z(spec.width), fx(spec.width), fy(spec.width), fz(spec.width);
+  std::vector<uint8_t> ok(spec.width), fok(spec.width);
+  for (int v = 0; v < spec.height; v += 7) {
+    view->row_points(v, x.data(), y.data(), z.data(), ok.data());
+    fixed->row_points(v, fx.data(), fy.data(), fz.data(), fok.data());
+    for (int u = 0; u < spec.width; ++u) {
+      ASSERT_EQ(ok[u], fok[u]);
+      EXPECT_NEAR(x[u], fx[u], 1e-4);
+      EXPECT_NEAR(y[u], fy[u], 1e-4);
+      EXPECT_NEAR(z[u], fz[u], 1e-4);
+    }
+  }
+  EXPECT_EQ(view->measured_fraction(), 0);
+}
+
+TEST(DepthSurface, RingsOnAWallAreJoinedAndNonFinitePointsCounted) {
+  const ViewSpec spec = perspective();
+  const DepthSurface surface(spec);
+  auto points = wall_rings(2.0, 2.0);
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  points.push_back({nan, 0, 0});
+  points.push_back({1, inf, 0});
+  DepthStats stats;
+  const auto view = surface.update(points, Pose::Identity(), &stats);
+  EXPECT_EQ(stats.non_finite, 2u);
+  EXPECT_EQ(stats.points, points.size());
+  EXPECT_GT(stats.filled_pixels, stats.splatted_pixels);  // rings ~9 px apart in this view
+  // Between the rings the surface is the wall: x = 2 for every pixel within +-14 deg.
+  for (int v = 26; v < 74; ++v) {
+    for (int u = 40; u < 160; ++u) {
+      Vec3 p;
+      ASSERT_TRUE(view->pixel_to_point(u, v, p));
+      EXPECT_NEAR(p.x(), 2.0, 0.01) << u << "," << v;
+      EXPECT_EQ(view->measured_at(u, v), 255);
+    }
+  }
+}
+
+TEST(DepthSurface, AStepIsNotBridgedAndFarFromSamplesTheFixedSurfaceReturns) {
+  const ViewSpec spec = perspective();
+  const DepthSurface surface(spec);
+  // A near wall on the left half (x = 1.5, y > 0) and a far one on the right (x = 6, y < 0,
+  // behind the fixed plane at 5 m):
+  // the columns between their samples must not be filled with a surface across the step.
+  auto points = wall_rings(1.5, 2.0, 0.02, 10);
+  const auto far = wall_rings(6.0, 2.0, -10, -0.1);
+  points.insert(points.end(), far.begin(), far.end());
+  DepthStats stats;
+  const auto view = surface.update(points, Pose::Identity(), &stats);
+  for (int v = 30; v < 70; ++v) {
+    int unmeasured = 0;  // the columns between the two walls' last samples
+    for (int u = 0; u < spec.width; ++u) {
+      if (view->measured_at(u, v) != 255) {
+        ++unmeasured;
+        continue;
+      }
+      Vec3 p;
+      ASSERT_TRUE(view->pixel_to_point(u, v, p));
+      // Every measured point is on one wall or the other, never in between.
+      EXPECT_TRUE(std::abs(p.x() - 1.5) < 0.02 || std::abs(p.x() - 6.0) < 0.05) << u << "," << v << " x " << p.x();
+    }
+    EXPECT_LE(unmeasured, 4) << "row " << v;
+  }
+  // Above +15 deg elevation nothing was measured: the top row (26.6 deg) is the fixed plane
+  // at 5 m. Above the far wall, behind that plane, a band fades from one to the other
+  // without a jump; above the near wall, an object in front of it, the edge stays a step.
+  Vec3 top;
+  ASSERT_TRUE(view->pixel_to_point(100, 0, top));
+  EXPECT_NEAR(top.x(), 5.0, 1e-3);
+  EXPECT_EQ(view->measured_at(100, 0), 0);
+  float previous = view->range_at(150, 50);
+  for (int v = 49; v >= 0; --v) {
+    const float r = view->range_at(150, v);
+    EXPECT_LT(std::abs(r - previous), 0.1f * previous) << "row " << v;  // a fade, no step
+    previous = r;
+  }
+  EXPECT_EQ(view->measured_at(50, 15), 0) << "no fade above the near wall";
+  Vec3 above_near;
+  ASSERT_TRUE(view->pixel_to_point(50, 15, above_near));
+  EXPECT_NEAR(above_near.x(), 5.0, 1e-3);
+}
+
+// Every view type stands on measured depth the same way (the generic projection path): a
+// cylindrical panorama of radius 5 inside a round room of radius 3 sampled like a lidar.
+TEST(DepthSurface, APanoramaStandsOnTheMeasuredRoom) {
+  ViewSpec spec;
+  spec.name = "pano";
+  spec.type = ViewType::kCylindrical;
+  spec.width = 360;
+  spec.height = 90;
+  spec.radius = 5;
+  spec.vfov_deg = 40;
+  spec.depth = Depth::kMeasured;
+  std::vector<Eigen::Vector3f> points;
+  for (double az = 0; az < 360; az += 0.2) {
+    for (double el = -15; el <= 15.01; el += 2) {  // a VLP-16's rings
+      const double a = az * M_PI / 180, e = el * M_PI / 180;
+      points.emplace_back(float(3 * std::cos(a)), float(3 * std::sin(a)), float(3 * std::tan(e)));
+    }
+  }
+  const auto view = DepthSurface(spec).update(points, Pose::Identity());
+  size_t on_room = 0, rows = 0;
+  for (int v = 14; v < 76; ++v) {  // within the rings' +-15 deg (rows 12 .. 77)
+    for (int u = 0; u < spec.width; ++u) {
+      Vec3 p;
+      ASSERT_TRUE(view->pixel_to_point(u, v, p));
+      ++rows;
+      on_room += std::abs(std::hypot(p.x(), p.y()) - 3.0) < 0.02;
+    }
+  }
+  EXPECT_GT(double(on_room) / double(rows), 0.99);
+  EXPECT_GT(view->measured_fraction(), 0.7);  // +-15 of the +-20 deg
+}
+
+TEST(DepthSurface, MeasuredViewsAreRejectedWhereTheSpecIsInvalid) {
+  ViewSpec spec = perspective();
+  spec.hfov_deg = 0;
+  EXPECT_THROW(DepthSurface{spec}, std::invalid_argument);
+}
+
+// One camera looking along +x from the origin; a small box of points 1 m ahead hides the
+// wall behind it: the view's pixels on the wall behind the box are black, the rest not.
+TEST(DepthOcclusion, AHiddenSurfacePointIsBlackNotTheOccludersColour) {
+  Rig rig("base");
+  Camera cam;
+  cam.name = "cam";
+  cam.model = CameraModel(PinholeRadtan(200, 200, 199.5, 149.5));
+  cam.width = 400;
+  cam.height = 300;
+  cam.T_parent_cam = make_pose(Vec3(0, 0, 0), 0, 0, 0);
+  cam.T_parent_cam.linear() = cam.T_parent_cam.linear() * R_view_optical();
+  rig.add_camera(cam);
+  // The view stands 0.5 m to the left of the camera and sees the wall x = 4 past the box.
+  ViewSpec spec = perspective(100, 60);
+  spec.frame = "base";
+  spec.position = Vec3(0, 0.5, 0);
+  // Sampled like a lidar at the view's place (every 0.5 deg): the box x = 1, |y|, |z| <= 0.3,
+  // and the wall x = 4, also where the box hides it from the camera.
+  std::vector<Eigen::Vector3f> points;  // in "base"
+  const Vec3 lidar(0, 0.5, 0);
+  for (double az = -50; az <= 50; az += 0.5) {
+    for (double el = -30; el <= 30; el += 0.5) {
+      const Vec3 dir(1, std::tan(az * M_PI / 180), std::tan(el * M_PI / 180));
+      const Vec3 on_box = lidar + dir * 1.0;
+      const bool box = std::abs(on_box.y()) <= 0.3 && std::abs(on_box.z()) <= 0.3;
+      points.push_back((lidar + dir * (box ? 1.0 : 4.0)).cast<float>());
+    }
+  }
+  const DepthSurface surface(spec);
+  const auto view = surface.update(points, spec.T_frame_view().inverse());
+  const Occlusion occlusion =
+      view_occlusion(CameraRangeImages(rig, ViewOcclusionOptions{}.cell_deg), *view, points, spec.T_frame_view().inverse());
+  const FusionMap with = build_map(rig, *view, MapPrecision::kExact, Sampling::kBilinear, &occlusion);
+  const FusionMap without = build_map(rig, *view, MapPrecision::kExact, Sampling::kBilinear);
+  // The wall point straight behind the box as the camera sees it, (4, 0, 0), seen from the view.
+  Vec2 uv;
+  ASSERT_TRUE(view->point_to_pixel(spec.T_frame_view().inverse() * Vec3(4, 0, 0), uv));
+  const size_t behind = size_t(std::lround(uv.y())) * with.width + size_t(std::lround(uv.x()));
+  EXPECT_EQ(without.primary[behind].cam, 0) << "without occlusion the box's colour is painted there";
+  EXPECT_EQ(with.primary[behind].cam, kNoCamera);
+  // The box itself and the wall beside it stay.
+  ASSERT_TRUE(view->point_to_pixel(spec.T_frame_view().inverse() * Vec3(1, 0, 0), uv));
+  EXPECT_EQ(with.primary[size_t(std::lround(uv.y())) * with.width + size_t(std::lround(uv.x()))].cam, 0);
+  ASSERT_TRUE(view->point_to_pixel(spec.T_frame_view().inverse() * Vec3(4, 2.0, 0), uv));
+  EXPECT_EQ(with.primary[size_t(std::lround(uv.y())) * with.width + size_t(std::lround(uv.x()))].cam, 0);
+  EXPECT_LT(with.coverage(), without.coverage());
+}
+
+}  // namespace
+}  // namespace omniview
