@@ -7,6 +7,7 @@
 #include "core/cloud/colourer.h"
 #include "core/view/pinhole_view.h"
 #include "foxglove/omniview_schemas.pb.h"
+#include "server/web/foxglove/foxglove_fields.h"
 #include "omniview/joint_states.pb.h"
 
 namespace omniview::export_mcap {
@@ -20,27 +21,11 @@ google::protobuf::Timestamp stamp(uint64_t ns) {
   return t;
 }
 
-void pinhole(foxglove::CameraCalibration& c, double fx, double fy, double cx, double cy) {
-  for (double v : {fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0}) c.add_k(v);
-  for (double v : {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}) c.add_r(v);
-  for (double v : {fx, 0.0, cx, 0.0, 0.0, fy, cy, 0.0, 0.0, 0.0, 1.0, 0.0}) c.add_p(v);
-}
+using foxglove_fields::set_pinhole;
 
 void add_transform(foxglove::FrameTransforms& out, uint64_t ns, const std::string& parent, const std::string& child,
                    const Pose& T) {
-  auto* tf = out.add_transforms();
-  *tf->mutable_timestamp() = stamp(ns);
-  tf->set_parent_frame_id(parent);
-  tf->set_child_frame_id(child);
-  const Eigen::Vector3d t = T.translation();
-  const Eigen::Quaterniond q(T.rotation());
-  tf->mutable_translation()->set_x(t.x());
-  tf->mutable_translation()->set_y(t.y());
-  tf->mutable_translation()->set_z(t.z());
-  tf->mutable_rotation()->set_x(q.x());
-  tf->mutable_rotation()->set_y(q.y());
-  tf->mutable_rotation()->set_z(q.z());
-  tf->mutable_rotation()->set_w(q.w());
+  foxglove_fields::add_transform(out, stamp(ns), parent, child, T.translation(), Eigen::Quaterniond(T.rotation()));
 }
 
 }  // namespace
@@ -72,7 +57,7 @@ std::string camera_calibration(const Camera& camera, uint64_t time_ns) {
     return "";
   }
   const auto& k = spec.intrinsics;  // fu fv pu pv
-  pinhole(c, k[0], k[1], k[2], k[3]);
+  set_pinhole(c, k[0], k[1], k[2], k[3]);
   return c.SerializeAsString();
 }
 
@@ -86,7 +71,7 @@ std::string view_calibration(const View& view, const std::string& frame_id, uint
   c.set_height(static_cast<uint32_t>(view.height()));
   c.set_distortion_model("plumb_bob");  // a virtual camera has none: all five zero
   for (int i = 0; i < 5; ++i) c.add_d(0);
-  pinhole(c, p->focal(), p->focal(), p->cx(), p->cy());
+  set_pinhole(c, p->focal(), p->focal(), p->cx(), p->cy());
   return c.SerializeAsString();
 }
 

@@ -10,6 +10,7 @@
 #include <google/protobuf/io/zero_copy_stream_impl_lite.h>
 
 #include "core/rig/rig.h"
+#include "server/web/foxglove/foxglove_fields.h"
 #include "server/web/foxglove/foxglove_schema.h"
 
 namespace omniview::web::foxglove_io {
@@ -64,20 +65,7 @@ pb::Timestamp now_timestamp() {
   return t;
 }
 
-void add_transform(foxglove::FrameTransforms& out, const pb::Timestamp& stamp, const std::string& parent,
-                   const std::string& child, const Eigen::Vector3d& t, const Eigen::Quaterniond& q) {
-  auto* tf = out.add_transforms();
-  *tf->mutable_timestamp() = stamp;
-  tf->set_parent_frame_id(parent);
-  tf->set_child_frame_id(child);
-  tf->mutable_translation()->set_x(t.x());
-  tf->mutable_translation()->set_y(t.y());
-  tf->mutable_translation()->set_z(t.z());
-  tf->mutable_rotation()->set_x(q.x());
-  tf->mutable_rotation()->set_y(q.y());
-  tf->mutable_rotation()->set_z(q.z());
-  tf->mutable_rotation()->set_w(q.w());
-}
+using foxglove_fields::add_transform;
 
 foxglove::PackedElementField::NumericType numeric_type(v1::PointField::DataType t) {
   using F = foxglove::PackedElementField;
@@ -149,9 +137,7 @@ std::string camera_calibration(const v1::Frame& frame, const std::string& frame_
   c.set_height(static_cast<uint32_t>(frame.height()));
   c.set_distortion_model("plumb_bob");  // a virtual camera has none: all five zero
   for (int i = 0; i < 5; ++i) c.add_d(0);
-  for (double v : {fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0}) c.add_k(v);
-  for (double v : {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}) c.add_r(v);
-  for (double v : {fx, 0.0, cx, 0.0, 0.0, fy, cy, 0.0, 0.0, 0.0, 1.0, 0.0}) c.add_p(v);
+  foxglove_fields::set_pinhole(c, fx, fy, cx, cy);
   return c.SerializeAsString();
 }
 
