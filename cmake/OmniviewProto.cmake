@@ -43,7 +43,7 @@ function(omniview_add_proto_library target)
     COMMENT "${arg_COMMENT}"
     VERBATIM)
 
-  add_library(${target} STATIC ${gen_srcs})
+  add_library(${target} ${gen_srcs})
   target_include_directories(${target} SYSTEM PUBLIC ${gen_dir})
   target_link_libraries(${target} PUBLIC protobuf::libprotobuf gRPC::grpc++)
   # Generated code is not ours to warn about, and each file defines the same file-level
