@@ -12,7 +12,9 @@ namespace {
 const std::string kStatusHelp = std::string(R"(usage: omniview status
 
 Shows omniviewd's version and uptime, its sources (connected, rate, errors, skipped frame
-sets), its views (subscribers, fps, map rebuilds, latency) and the streaming clients.
+sets), its views (subscribers, fps, map rebuilds, latency; for views with depth: measured
+the geometry's age, the depth updates and the share of pixels on measured depth) and the
+streaming clients.
 
 )") + connection_help();
 
@@ -71,11 +73,27 @@ int status_command(const std::vector<std::string>& argv) {
     std::map<std::string, bool> delivering;  // source -> connected and has delivered
     for (const auto& s : status.sources()) delivering[s.name()] = s.connected() && s.frames() > 0;
     std::map<std::string, std::string> source_of;  // view -> source
+    std::map<std::string, bool> measured;          // view -> depth: measured
     v1::ListViewsResponse listed;
     grpc::ClientContext list_context;
     connection.prepare(list_context, true);
     if (connection.stub().ListViews(&list_context, v1::ListViewsRequest(), &listed).ok()) {
-      for (const auto& v : listed.views()) source_of[v.spec().name()] = v.spec().source();
+      for (const auto& v : listed.views()) {
+        source_of[v.spec().name()] = v.spec().source();
+        measured[v.spec().name()] = v.spec().depth() == v1::MEASURED;
+      }
+    }
+    Table depth({"DEPTH VIEW", "GEOMETRY AGE", "UPDATES", "LAST UPDATE", "ON MEASURED DEPTH", "MESSAGE"});
+    bool any_depth = false;
+    for (const auto& v : status.views()) {
+      if (!measured[v.name()]) continue;
+      any_depth = true;
+      depth.add({v.name(), age_text(v.depth_geometry_age_s()), std::to_string(v.depth_updates()),
+                 fixed(v.depth_update_ms(), 1) + " ms", fixed(v.measured_depth() * 100, 1) + "%", v.depth_message()});
+    }
+    if (any_depth) {
+      std::cout << "\n";
+      depth.print(std::cout, "  ");
     }
     for (const auto& v : status.views()) {
       const auto source = source_of.find(v.name());

@@ -86,13 +86,6 @@ v1::ViewSpec only_given_fields(v1::ViewSpec full, const YAML::Node& node) {
 
 std::vector<v1::ViewSpec> views_from_yaml(const YamlReader& reader) {
   const std::vector<ViewSpec> parsed = parse_views(reader);  // checks keys, types, values
-  for (const auto& v : parsed) {
-    // The API's ViewSpec has no depth field yet: sending the rest would make a fixed view.
-    if (v.depth == Depth::kMeasured) {
-      throw std::invalid_argument("view '" + v.name +
-                                  "': depth: measured is not served by the daemon yet (offline: omniview render --cloud)");
-    }
-  }
   const YAML::Node& root = reader.root();
   std::vector<YAML::Node> nodes;
   if (root["views"]) {
@@ -118,6 +111,7 @@ void apply_setting(const std::string& assignment, v1::ViewSpec& spec) {
   try {
     if (key == "type") return spec.set_type(to_proto(view_type_from_string(value, what)));
     if (key == "fusion") return spec.set_fusion(to_proto(fusion_from_string(value, what)));
+    if (key == "depth") return spec.set_depth(to_proto(depth_from_string(value, what)));
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
@@ -164,7 +158,8 @@ const char* settable_keys_help() {
   radius, vfov_deg (vfov), azimuth_span_deg, lat_min_deg, lat_max_deg,
   fov_deg (fov), fusion (blend, the default|nearest), feather_px, gain_compensation
   (true, the default|false: even out the cameras' exposures in a blend), overlay (true|false: draw the robot
-  into a perspective or birdseye view), overlay_opacity (0..1)
+  into a perspective or birdseye view), overlay_opacity (0..1), depth (fixed, the
+  default|measured: the surface follows the source's lidar clouds)
 )";
 }
 

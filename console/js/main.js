@@ -118,6 +118,7 @@ async function setLayout(layout, view) {
   }
   // The dropdown names the main (first) pane's view, whatever the layout.
   if (app.panes[0] && spec(app.panes[0].view)) $('view-select').value = app.panes[0].view;
+  showDepth();
   const url = new URL(location.href);
   url.searchParams.set('layout', layout);
   if (layout === 'single') url.searchParams.set('view', app.panes[0] ? app.panes[0].view : '');
@@ -133,6 +134,27 @@ async function loadViews() {
   const chosen = select.value;
   select.replaceChildren(...app.views.map((v) => new Option(`${v.spec.name} (${v.spec.type.toLowerCase()})`, v.spec.name)));
   if (chosen && spec(chosen)) select.value = chosen;
+}
+
+// The depth button names the first pane's surface (operators switch it; viewers only see it).
+function showDepth() {
+  const s = app.panes[0] && spec(app.panes[0].view);
+  const button = $('depth');
+  button.textContent = `Depth: ${s && s.depth === 'MEASURED' ? 'measured' : 'fixed'}`;
+  button.disabled = !s || app.link.role === 'viewer';
+}
+
+async function toggleDepth() {
+  const view = app.panes[0] && app.panes[0].view;
+  const s = view && spec(view);
+  if (!s) return;
+  try {
+    await app.link.call('UpdateView', { name: view, set: { depth: s.depth === 'MEASURED' ? 'FIXED' : 'MEASURED' } });
+    await loadViews();
+    showDepth();
+  } catch (e) {
+    toast(`${view}: ${e.code}: ${e.message}`);
+  }
 }
 
 // A span of the status line; `unit` ones never break inside (a figure and its unit).
@@ -159,10 +181,17 @@ function showStatus(st) {
   }
   for (const p of app.panes) {
     const age = p.ageMs();
-    parts.push(statusSpan('segment', `${p.view} ${p.encodingLabel()} `,
+    const segment = statusSpan('segment', `${p.view} ${p.encodingLabel()} `,
       statusSpan('unit', `${p.fps().toFixed(1)} fps`), ' · ',
       statusSpan('unit', age === null ? '–' : Math.round(age) + ' ms'), ' · ',
-      statusSpan('unit', `dropped ${p.skipped}`)));
+      statusSpan('unit', `dropped ${p.skipped}`));
+    // A measured-depth view: how much of it stands on the lidar (none yet: why).
+    const vs = (st.views || []).find((v) => v.name === p.view);
+    if (vs && (spec(p.view) || {}).depth === 'MEASURED') {
+      segment.append(' · ', statusSpan('unit', vs.depthMessage && !vs.measuredDepth
+        ? 'depth: ' + vs.depthMessage : `depth ${Math.round(100 * (vs.measuredDepth || 0))}% measured`));
+    }
+    parts.push(segment);
   }
   el.replaceChildren(...parts);
   const down = (st.sources || []).filter((s) => !s.connected);
@@ -251,6 +280,7 @@ async function main() {
   $('view-select').addEventListener('change', () => setLayout('single', $('view-select').value));
   for (const b of document.querySelectorAll('#layouts button')) b.addEventListener('click', () => setLayout(b.dataset.layout));
   $('snapshot').addEventListener('click', snapshot);
+  $('depth').addEventListener('click', toggleDepth);
   await setLayout(params.get('layout') || 'single', view && spec(view) ? view : undefined);
   pollStatus();
   setInterval(pollStatus, 1000);

@@ -4,7 +4,8 @@
 // meets the straight segment between the two, exact for a surface flat between them. A sample that such a
 // nearer surface covers from both sides was seen through it (the lidar saw past the
 // object's edge between two of the view's rays) and gives way to it. Where both directions
-// offer a surface the nearer one wins, as in a z-buffer.
+// offer a surface the nearer one wins, as in a z-buffer. Two passes, so that rings joined
+// along themselves are then joined to each other (gap_fill.cc).
 #pragma once
 
 #include <vector>

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <opencv2/imgproc.hpp>
+
 #include "core/depth/fallback_blend.h"
 #include "core/depth/gap_fill.h"
 #include "core/depth/range_splat.h"
@@ -29,6 +31,14 @@ std::vector<uint8_t> MeasuredDepthView::occlusion_judged() const {
   for (size_t i = 0; i < judged.size(); ++i) {
     judged[i] = measured_[i] == 255 || (measured_[i] == 0 && rays_->fixed_on_ground[i]);
   }
+  // Not within kJudgedMargin pixels of what is not judged: the last ring on an object or a
+  // wall ends the measured surface a little short of the object's true edge, where the
+  // cameras' range images (filled by the same rule) disagree with it by a cell, and a row of
+  // dots came out black along every top edge (the golden front view: 28 dB, 43 dB without
+  // occlusion).
+  const int r = kJudgedMargin;
+  cv::Mat mask(height(), width(), CV_8UC1, judged.data());
+  cv::erode(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1)));
   return judged;
 }
 

@@ -38,7 +38,9 @@ class MeasuredDepthView : public View {
   // over). Not the blend band, nor a fixed plane, cylinder or sphere: a point of those a
   // camera sees behind a measured object is most often that object going on past its last
   // measured ring, and black there would hide what the camera plainly sees.
+  // Pixels within kJudgedMargin of one that is not judged are not judged either.
   std::vector<uint8_t> occlusion_judged() const;
+  static constexpr int kJudgedMargin = 3;
   // Fraction of the view's pixels that stand on measured depth (blend band included).
   double measured_fraction() const;
 

@@ -43,12 +43,6 @@ std::vector<ViewSpec> parse_daemon_views(const YamlReader& r, const YAML::Node& 
   for (size_t i = 0; i < n.size(); ++i) {
     const std::string path = "views[" + std::to_string(i) + "]";
     ViewSpec view = parse_view(r, n[i], path);
-    // The daemon has no geometry source yet: a measured view would quietly stand on its
-    // fixed surface, which is not what the config asks for.
-    if (view.depth == Depth::kMeasured) {
-      r.fail(n[i]["depth"], path + ".depth",
-             "depth: measured is not served by the daemon yet (offline: omniview render --cloud FILE)");
-    }
     if (view.source.empty()) {
       view.source = sources.front().name;
     } else {

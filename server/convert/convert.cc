@@ -80,6 +80,17 @@ Fusion from_proto(v1::Fusion fusion, const std::string& what) {
                               "); one of NEAREST_CENTRE, BLEND");
 }
 
+v1::Depth to_proto(Depth depth) { return depth == Depth::kMeasured ? v1::MEASURED : v1::FIXED; }
+
+Depth from_proto(v1::Depth depth, const std::string& what) {
+  switch (depth) {
+    case v1::FIXED: return Depth::kFixed;
+    case v1::MEASURED: return Depth::kMeasured;
+    default: break;
+  }
+  throw std::invalid_argument(what + ": depth unknown (" + std::to_string(depth) + "); one of FIXED, MEASURED");
+}
+
 v1::ViewSpec to_proto(const ViewSpec& s) {
   v1::ViewSpec p;
   p.set_name(s.name);
@@ -108,6 +119,7 @@ v1::ViewSpec to_proto(const ViewSpec& s) {
   p.set_gain_compensation(s.gain_compensation);
   p.set_ground(s.ground);
   p.set_overlay_opacity(s.overlay_opacity);
+  p.set_depth(to_proto(s.depth));
   return p;
 }
 
@@ -177,6 +189,7 @@ void apply_patch(const v1::ViewSpec& p, ViewSpec& s) {
   if (p.has_overlay()) s.overlay = p.overlay();
   if (p.has_gain_compensation()) s.gain_compensation = p.gain_compensation();
   if (p.has_ground()) s.ground = p.ground();
+  if (p.has_depth()) s.depth = from_proto(p.depth(), what);
   reject_inapplicable_changes(p, before, s);
 }
 

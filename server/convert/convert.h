@@ -18,9 +18,11 @@ Pose from_proto(const v1::Transform& t);
 
 v1::ViewType to_proto(ViewType type);
 v1::Fusion to_proto(Fusion fusion);
+v1::Depth to_proto(Depth depth);
 // Throw std::invalid_argument naming `what` for UNSPECIFIED or unknown values.
 ViewType from_proto(v1::ViewType type, const std::string& what);
 Fusion from_proto(v1::Fusion fusion, const std::string& what);
+Depth from_proto(v1::Depth depth, const std::string& what);
 
 // Every field set.
 v1::ViewSpec to_proto(const ViewSpec& spec);

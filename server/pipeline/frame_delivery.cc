@@ -37,6 +37,7 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
     *frame->mutable_capture_time() = to_timestamp(rendered.capture_time);
     *frame->mutable_camera() = *state.description;
     frame->set_coverage(state.coverage);
+    if (state.depth) frame->set_measured_depth(state.depth->measured_fraction);
     if (rendered.stale) {
       frame->set_stale(true);
       frame->set_stale_reason(rendered.stale_reason);

@@ -69,6 +69,11 @@ void LiveView::record_map_build(double ms) {
   stats_.last_map_build_ms = ms;
 }
 
+void LiveView::record_depth_update() {
+  std::lock_guard lock(mutex_);
+  ++stats_.depth_updates;
+}
+
 void LiveView::record_frame(double latency_ms, std::chrono::steady_clock::time_point now) {
   std::lock_guard lock(mutex_);
   ++stats_.frames;

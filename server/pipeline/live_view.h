@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/depth/measured_depth_view.h"
 #include "core/gain/gain_compensator.h"
 #include "core/map/fusion_map.h"
 #include "core/rig/rig.h"
@@ -22,7 +23,17 @@
 
 namespace omniview {
 
-// Everything one revision of a view needs to render and describe itself.
+// A view with `depth: measured`: the surface its map stands on, and the geometry it came from.
+struct ViewDepth {
+  std::shared_ptr<const DepthSurface> surface;  // the view's rays and fixed surface (per revision)
+  uint64_t geometry_version = 0;                // of the geometry the map stands on; 0: none yet
+  std::chrono::steady_clock::time_point geometry_arrival{};
+  double measured_fraction = 0;                 // of the view's pixels on measured depth
+  double update_ms = 0;                         // the last update: surface, occlusion and map
+};
+
+// Everything one revision of a view needs to render and describe itself. A depth view's
+// map changes within a revision, as its geometry does: a new state with the same revision.
 struct ViewState {
   ViewSpec spec;
   uint64_t revision = 0;
@@ -33,11 +44,13 @@ struct ViewState {
   double coverage = 0;  // of `map`: computed once, sent with every frame
   Pose T_robot_view = Pose::Identity();  // the view frame in the rig's default frame
   std::shared_ptr<const v1::View> description;  // as sent with every frame
+  std::shared_ptr<const ViewDepth> depth;        // null: a fixed surface
 };
 
 struct ViewStats {
   uint64_t frames = 0;
   uint64_t map_rebuilds = 0;
+  uint64_t depth_updates = 0;  // maps rebuilt for new geometry (depth: measured)
   double last_map_build_ms = 0;
   double fps = 0;  // 1 / the exponentially averaged frame interval, since the view's last pause
   double mean_interval_s = 0;
@@ -86,6 +99,7 @@ class LiveView {
   CameraGains update_gains(const FusionMap& map, const std::vector<cv::Mat>& images, int channels);
 
   void record_map_build(double ms);
+  void record_depth_update();
   void record_frame(double latency_ms, std::chrono::steady_clock::time_point now);
   ViewStats stats() const;
 

@@ -18,6 +18,10 @@ namespace {
 int fast_encoder_threads() { return std::clamp(static_cast<int>(std::thread::hardware_concurrency()), 2, 4); }
 int slow_encoder_threads() { return std::clamp(static_cast<int>(std::thread::hardware_concurrency()) / 2, 1, 2); }
 
+// Depth updates rest twice as long as each took: at most a third of one core for all depth
+// views together (depth/depth_update_queue.h), the rest for frames.
+constexpr double kDepthUpdateRest = 2.0;
+
 }  // namespace
 
 Pipeline::Pipeline(PipelineLimits limits) : limits_(limits) {}
@@ -30,6 +34,7 @@ void Pipeline::add_source(std::unique_ptr<Source> source) {
     if (c->source().name() == source->name()) throw std::invalid_argument("two sources named '" + source->name() + "'");
   }
   clouds_[source->name()] = std::make_unique<CloudDelivery>(source->name());
+  geometry_[source->name()] = std::make_unique<SourceGeometry>();
   channels_.push_back(std::make_unique<SourceChannel>(std::move(source)));
 }
 
@@ -68,6 +73,8 @@ void Pipeline::start() {
   if (started_flag_.exchange(true)) return;
   encoder_ = std::make_unique<EncoderPool>(fast_encoder_threads(), slow_encoder_threads());
   rebuild_thread_ = std::thread([this] { rebuild_worker(); });
+  depth_updates_ = std::make_unique<DepthUpdateQueue>([this](const std::string& view) { update_depth(view); },
+                                                      kDepthUpdateRest);
   for (auto& c : channels_) {
     SourceChannel* ch = c.get();
     workers_.emplace_back([this, ch] { render_worker(ch); });
@@ -88,6 +95,7 @@ void Pipeline::stop(const std::string& reason) {
   for (auto& c : channels_) c->source().stop();
   for (auto& c : channels_) c->close();
   for (auto& w : workers_) w.join();
+  depth_updates_->stop();  // after the render workers: nothing requests updates any more
   // After the render workers: nothing submits any more. Encodes in flight finish and offer
   // to subscribers that are closed by now, which refuse them.
   encoder_->stop();

@@ -10,10 +10,13 @@
 //   rig change (new extrinsics): a map thread rebuilds; frames keep the old map meanwhile
 //   a frame set with a lidar cloud and cloud subscribers: the render worker colours it
 //          with the set's images and offers it to each cloud subscriber (cloud/)
+//   a frame set with a lidar cloud and watched `depth: measured` views: the cloud joins the
+//          source's geometry, and a depth thread rebuilds those views' maps on it (depth/)
 //
 // Views without subscribers cost nothing; the source is told which cameras watched views
 // need (Source::set_wanted_cameras), so a robot is asked only for those; clouds are pulled
-// only while someone streams one (Source::set_cloud_wanted), and then every camera is.
+// only while someone streams one or watches a depth view (Source::set_cloud_wanted), and
+// every camera only for a coloured cloud.
 #pragma once
 
 #include <atomic>
@@ -29,6 +32,8 @@
 #include "omniview/v1/omniview.pb.h"
 #include "server/pipeline/api_error.h"
 #include "server/pipeline/cloud/cloud_delivery.h"
+#include "server/pipeline/depth/depth_update_queue.h"
+#include "server/pipeline/depth/source_geometry.h"
 #include "server/pipeline/encoder_pool.h"
 #include "server/pipeline/live_view.h"
 #include "server/pipeline/robot_joints.h"
@@ -107,6 +112,15 @@ class Pipeline {
   void resend_stale_views(SourceChannel& channel);
   void deliver_cloud(SourceChannel& channel, const FrameSet& frames);
   CloudDelivery& clouds(const std::string& source) const;  // by the source's own name
+  // Measured depth (pipeline_depth.cc).
+  SourceGeometry& geometry(const std::string& source) const;  // by the source's own name
+  void deliver_geometry(SourceChannel& channel, const FrameSet& frames);
+  bool depth_watched(const std::string& source) const;
+  void update_depth(const std::string& view);
+  // `state`'s view and map on `geometry` (state's rig, spec and pose set); throws
+  // std::invalid_argument when the geometry's frame is not the rig's.
+  void apply_measured_depth(ViewState& state, const GeometrySnapshot& geometry) const;
+  void describe_depth(const ViewState& state, size_t subscribers, v1::ViewStatus& status) const;
   RobotJoints& robot_joints(const std::string& source) const;  // throws ApiError
   void rebuild_worker();
   void request_rebuild(const std::string& view);
@@ -116,6 +130,8 @@ class Pipeline {
   std::map<std::string, std::shared_ptr<const RobotModelSetup>> robot_models_;  // by source; fixed after start
   std::map<std::string, std::unique_ptr<RobotJoints>> robot_joints_;            // by source; fixed after start
   std::map<std::string, std::unique_ptr<CloudDelivery>> clouds_;               // by source; fixed after start
+  std::map<std::string, std::unique_ptr<SourceGeometry>> geometry_;            // by source; fixed after start
+  std::unique_ptr<DepthUpdateQueue> depth_updates_;  // from start()
   std::vector<std::thread> workers_;
   std::unique_ptr<EncoderPool> encoder_;  // from start(); stopped after the render workers
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();

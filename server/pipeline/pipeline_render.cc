@@ -54,6 +54,7 @@ void Pipeline::render_worker(SourceChannel* ch) {
       });
     }
     deliver_cloud(*ch, *frames);
+    deliver_geometry(*ch, *frames);
   }
 }
 

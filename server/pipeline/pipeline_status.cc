@@ -62,6 +62,10 @@ v1::Status Pipeline::status() const {
     const auto current = rig(state->spec.source);
     s->set_map_pending(current && current != state->rig);
     s->set_last_latency_ms(stats.last_latency_ms);
+    if (state->depth) {
+      describe_depth(*state, subscribers.size(), *s);
+      s->set_depth_updates(stats.depth_updates);
+    }
     for (const auto& sub : subscribers) {
       auto* c = st.add_clients();
       c->set_peer(sub->peer());

@@ -36,6 +36,8 @@ std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const s
   // its state in place already. Either way no frame of an older revision reaches it.
   s->set_min_revision(view->state()->revision);
   update_wanted_cameras(view->state()->spec.source);
+  // A depth view watched again stands on the source's newest geometry at once, if any.
+  if (view->state()->depth && depth_updates_) depth_updates_->request(name);
   return s;
 }
 
@@ -123,7 +125,8 @@ void Pipeline::update_wanted_cameras(const std::string& source) {
   // Sampling first: a source that starts decoding for a new watcher then decodes at the
   // size the views need from its first frame.
   ch->source().set_camera_sampling(spacing);
-  ch->source().set_cloud_wanted(cloud_wanted);
+  // A watched depth view needs the clouds, not every camera.
+  ch->source().set_cloud_wanted(cloud_wanted || depth_watched(source));
   ch->source().set_wanted_cameras(wanted);
 }
 

@@ -2,6 +2,7 @@
 #include "server/pipeline/pipeline.h"
 
 #include <chrono>
+#include <iostream>
 
 #include <yaml-cpp/yaml.h>
 
@@ -16,6 +17,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// A changed depth view (a joystick step) stands on the source's geometry at once if that is
+// this recent; older geometry (nobody watched for a while) waits for the next cloud.
+constexpr auto kFreshGeometry = std::chrono::seconds(2);
 
 }  // namespace
 
@@ -78,6 +83,24 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
   d->set_yaml(yaml.c_str());
   state->T_robot_view = T_robot_view;
   state->description = std::move(d);
+  if (spec.depth == Depth::kMeasured) {
+    auto depth = std::make_shared<ViewDepth>();
+    try {
+      depth->surface = std::make_shared<const DepthSurface>(spec);
+    } catch (const std::invalid_argument& e) {
+      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+    }
+    state->depth = std::move(depth);
+    const auto geometry = this->geometry(channel(spec.source).source().name()).latest();
+    if (geometry && Clock::now() - geometry->arrival < kFreshGeometry) {
+      try {
+        apply_measured_depth(*state, *geometry);
+      } catch (const std::invalid_argument& e) {
+        // Geometry of an older rig: the view starts on its fixed surface, the next cloud fixes it.
+        std::cerr << "omniviewd: " << what << ": " << e.what() << "\n";
+      }
+    }
+  }
   return state;
 }
 

@@ -142,9 +142,7 @@ TEST(DaemonConfig, ViewErrors) {
                {"d.yaml:4: views[0].colour: unknown key"});
   expect_error(base + "  - {name: a, type: sphere}\n", {"d.yaml:4: views[0].type:"});
   expect_error("sources:\n  - {name: cam, type: images}\nviews: {name: a}\n", {"d.yaml:3: views: expected a list"});
-  // Not served yet: refused rather than quietly rendered on the fixed surface.
-  expect_error(base + "  - {name: a, type: perspective, depth: measured}\n",
-               {"d.yaml:4: views[0].depth: depth: measured is not served by the daemon yet"});
+  expect_error(base + "  - {name: a, type: perspective, depth: lidar}\n", {"d.yaml:4: views[0].depth:", "unknown depth 'lidar'"});
 }
 
 TEST(DaemonConfig, ViewsMustStayWithinTheLimits) {

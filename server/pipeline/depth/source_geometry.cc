@@ -1,0 +1,94 @@
+#include "server/pipeline/depth/source_geometry.h"
+
+#include <cmath>
+
+namespace omniview {
+
+void SourceGeometry::add(const PointCloud& cloud, const Rig& rig, const Trajectory* motion,
+                         std::chrono::steady_clock::time_point arrival) {
+  const std::string robot = rig.default_frame();
+  const auto T_robot_cloud = rig.frames().try_lookup(robot, cloud.frame);
+  Cloud entry;
+  entry.stamp = cloud.stamp;
+  if (T_robot_cloud) {
+    const Eigen::Matrix3f R = T_robot_cloud->linear().cast<float>();
+    const Eigen::Vector3f t = T_robot_cloud->translation().cast<float>();
+    entry.points.reserve(cloud.points.size());
+    for (const auto& p : cloud.points) {
+      if (p.allFinite()) entry.points.push_back(R * p + t);
+    }
+  }
+  std::lock_guard lock(mutex_);
+  if (!T_robot_cloud || entry.points.empty()) {
+    ++skipped_;
+    message_ = !T_robot_cloud ? "a lidar cloud in frame '" + cloud.frame + "', which is not connected to the rig's '" +
+                                    robot + "': skipped"
+                              : "a lidar cloud with no finite point: skipped";
+    return;
+  }
+  message_.clear();
+  clouds_.push_back(std::move(entry));
+  // Age out by capture time behind the newest, then keep within the point budget.
+  const auto newest = clouds_.back().stamp;
+  while (clouds_.size() > 1 && newest - clouds_.front().stamp > options_.keep) clouds_.pop_front();
+  size_t total = 0;
+  for (const auto& c : clouds_) total += c.points.size();
+  while (clouds_.size() > 1 && total > options_.max_points) {
+    total -= clouds_.front().points.size();
+    clouds_.pop_front();
+  }
+
+  // Every cloud moved to where the robot is at the newest one's time (odometry between
+  // the two; none known: the robot is taken to be still).
+  auto points = std::make_shared<std::vector<Eigen::Vector3f>>();
+  points->reserve(std::min(total, options_.max_points));
+  for (const auto& c : clouds_) {
+    const Pose T_now_then = motion ? motion->relative(newest, c.stamp) : Pose::Identity();
+    const Eigen::Matrix3f R = T_now_then.linear().cast<float>();
+    const Eigen::Vector3f t = T_now_then.translation().cast<float>();
+    // The newest cloud alone may exceed the budget: keep an even subset of it.
+    const size_t step = c.points.size() > options_.max_points ? (c.points.size() + options_.max_points - 1) / options_.max_points : 1;
+    for (size_t i = 0; i < c.points.size(); i += step) points->push_back(R * c.points[i] + t);
+  }
+  GeometrySnapshot snapshot;
+  snapshot.version = ++version_;
+  snapshot.points = std::move(points);
+  snapshot.frame = robot;
+  snapshot.stamp = newest;
+  snapshot.arrival = arrival;
+  snapshot.clouds = clouds_.size();
+  latest_ = std::move(snapshot);
+}
+
+std::optional<GeometrySnapshot> SourceGeometry::latest() const {
+  std::lock_guard lock(mutex_);
+  return latest_;
+}
+
+std::string SourceGeometry::message() const {
+  std::lock_guard lock(mutex_);
+  return message_;
+}
+
+uint64_t SourceGeometry::skipped() const {
+  std::lock_guard lock(mutex_);
+  return skipped_;
+}
+
+std::shared_ptr<const CameraRangeImages> SourceGeometry::range_images(const std::shared_ptr<const Rig>& rig,
+                                                                      double cell_deg) {
+  std::lock_guard lock(mutex_);
+  if (rig != range_rig_) {
+    // CameraRangeImages refers to its rig: whoever holds one holds the rig too.
+    struct Held {
+      std::shared_ptr<const Rig> rig;
+      CameraRangeImages images;
+    };
+    auto held = std::make_shared<const Held>(Held{rig, CameraRangeImages(*rig, cell_deg)});
+    range_images_ = std::shared_ptr<const CameraRangeImages>(held, &held->images);
+    range_rig_ = rig;
+  }
+  return range_images_;
+}
+
+}  // namespace omniview

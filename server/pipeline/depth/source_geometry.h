@@ -1,0 +1,85 @@
+// The geometry a source measures, for its views with `depth: measured`: its recent lidar
+// clouds in the rig's robot frame, several accumulated with the robot's motion and aged
+// out, as one set of points as of the newest cloud.
+//
+// Why accumulate: one VLP-16 rotation is 16 rings 2 deg apart (10 cm at 3 m, 35 cm at
+// 10 m); a few rotations, each moved to where the robot is now, fill between the rings of
+// a robot that moves or turns, and cost a still robot nothing but points. Why age out:
+// what moved (a person, a door) must leave the surface within a moment.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "core/cloud/point_cloud.h"
+#include "core/cloud/trajectory.h"
+#include "core/depth/camera_occluders.h"
+#include "core/rig/rig.h"
+
+namespace omniview {
+
+struct GeometryOptions {
+  // Clouds older than this (capture time, behind the newest) leave the set: 5 rotations of
+  // a 10 Hz lidar. Longer smears what moves; shorter leaves the rings apart.
+  std::chrono::milliseconds keep{500};
+  // The most points kept (the oldest clouds go first): ~10 rotations of a VLP-16, 1.5
+  // rotations of a 32-beam lidar, and what a depth update of a 1024x512 view handles in
+  // tens of milliseconds (bench/depth_bench).
+  size_t max_points = 300000;
+};
+
+// Points as of one moment, shared with every depth view of the source.
+struct GeometrySnapshot {
+  uint64_t version = 0;  // increases with every cloud added
+  std::shared_ptr<const std::vector<Eigen::Vector3f>> points;  // in `frame`, finite
+  std::string frame;                                           // the rig's default (robot) frame
+  std::chrono::system_clock::time_point stamp;                 // the newest cloud's capture time
+  std::chrono::steady_clock::time_point arrival;               // when the daemon had it
+  size_t clouds = 0;                                           // accumulated into `points`
+};
+
+class SourceGeometry {
+ public:
+  explicit SourceGeometry(GeometryOptions options = {}) : options_(options) {}
+
+  // Adds a cloud delivered with `rig` (its points in one of the rig's frames) and the
+  // robot's recent motion (null: the robot is taken to be still). A cloud whose frame the
+  // rig does not know, or with no finite point, is counted and skipped (message()).
+  void add(const PointCloud& cloud, const Rig& rig, const Trajectory* motion,
+           std::chrono::steady_clock::time_point arrival);
+
+  std::optional<GeometrySnapshot> latest() const;
+  // Why the last cloud was skipped ("" when it was not), and how many were.
+  std::string message() const;
+  uint64_t skipped() const;
+
+  // Each camera's range-image layout for occlusion (core/depth/camera_occluders.h), made
+  // once per rig and shared by the source's depth views; what it returns keeps `rig` alive.
+  std::shared_ptr<const CameraRangeImages> range_images(const std::shared_ptr<const Rig>& rig, double cell_deg);
+
+ private:
+  struct Cloud {
+    std::chrono::system_clock::time_point stamp;
+    std::vector<Eigen::Vector3f> points;  // in the robot frame at `stamp`
+  };
+
+  const GeometryOptions options_;
+  mutable std::mutex mutex_;
+  std::deque<Cloud> clouds_;  // by arrival, oldest first
+  std::optional<GeometrySnapshot> latest_;
+  std::string message_;
+  uint64_t skipped_ = 0;
+  uint64_t version_ = 0;
+  std::shared_ptr<const Rig> range_rig_;
+  std::shared_ptr<const CameraRangeImages> range_images_;
+};
+
+}  // namespace omniview

@@ -1,0 +1,113 @@
+// Measured depth (`depth: measured`): each source's lidar clouds join its geometry on the
+// render worker, and the depth thread (depth/depth_update_queue.h) rebuilds the watched
+// depth views' maps on it, swapping each in like any other map: frames keep flowing with
+// the previous one meanwhile.
+#include <chrono>
+
+#include "core/depth/camera_occluders.h"
+#include "server/pipeline/pipeline.h"
+
+namespace omniview {
+
+namespace {
+
+using DepthClock = std::chrono::steady_clock;
+
+}  // namespace
+
+SourceGeometry& Pipeline::geometry(const std::string& source) const { return *geometry_.at(source); }
+
+bool Pipeline::depth_watched(const std::string& source) const {
+  std::lock_guard lock(views_mutex_);
+  for (const auto& [_, v] : views_) {
+    const auto state = v->state();
+    if (state->depth && state->spec.source == source && v->subscriber_count() > 0) return true;
+  }
+  return false;
+}
+
+void Pipeline::deliver_geometry(SourceChannel& ch, const FrameSet& frames) {
+  if (!frames.cloud) return;
+  const std::string& name = ch.source().name();
+  std::vector<std::string> watched;
+  {
+    std::lock_guard lock(views_mutex_);
+    for (const auto& [view, v] : views_) {
+      const auto state = v->state();
+      if (state->depth && state->spec.source == name && v->subscriber_count() > 0) watched.push_back(view);
+    }
+  }
+  if (watched.empty()) return;
+  const auto rig = frames.rig ? frames.rig : this->rig(name);
+  geometry(name).add(*frames.cloud, *rig, frames.motion.get(), frames.arrival);
+  for (const auto& view : watched) depth_updates_->request(view);
+}
+
+void Pipeline::update_depth(const std::string& name) {
+  std::shared_ptr<LiveView> view;
+  {
+    std::lock_guard lock(views_mutex_);
+    const auto it = views_.find(name);
+    if (it == views_.end()) return;  // deleted or renamed meanwhile
+    view = it->second;
+  }
+  if (view->subscriber_count() == 0) return;
+  std::lock_guard change(view->change_mutex());
+  const auto old = view->state();
+  if (!old->depth) return;  // made fixed meanwhile
+  const auto snapshot = geometry(old->spec.source).latest();
+  if (!snapshot || snapshot->version == old->depth->geometry_version) return;
+  auto state = std::make_shared<ViewState>(*old);
+  apply_measured_depth(*state, *snapshot);
+  view->set_state(state);
+  view->record_depth_update();
+}
+
+void Pipeline::apply_measured_depth(ViewState& state, const GeometrySnapshot& geometry) const {
+  const auto t0 = DepthClock::now();
+  const Rig& rig = *state.rig;
+  const auto T_robot_points = rig.frames().try_lookup(rig.default_frame(), geometry.frame);
+  if (!T_robot_points) {
+    throw std::invalid_argument("the geometry's frame '" + geometry.frame + "' is not connected to the rig's '" +
+                                rig.default_frame() + "'");
+  }
+  const Pose T_view_points = state.T_robot_view.inverse() * *T_robot_points;
+  auto depth = std::make_shared<ViewDepth>(*state.depth);
+  const auto view = depth->surface->update(*geometry.points, T_view_points);
+  const ViewOcclusionOptions options;
+  const auto cameras = this->geometry(state.spec.source).range_images(state.rig, options.cell_deg);
+  const Occlusion occlusion = view_occlusion(*cameras, *view, *geometry.points, T_view_points, options);
+  // Exact: the adaptive builder interpolates across a smooth surface, which measured depth is not.
+  state.map = std::make_shared<const FusionMap>(build_map(rig, *view, MapPrecision::kExact, Sampling::kFootprint, &occlusion));
+  state.view = view;
+  state.coverage = state.map->coverage();
+  depth->geometry_version = geometry.version;
+  depth->geometry_arrival = geometry.arrival;
+  depth->measured_fraction = view->measured_fraction();
+  depth->update_ms = std::chrono::duration<double, std::milli>(DepthClock::now() - t0).count();
+  state.depth = std::move(depth);
+}
+
+void Pipeline::describe_depth(const ViewState& state, size_t subscribers, v1::ViewStatus& status) const {
+  const ViewDepth& depth = *state.depth;
+  const bool any = depth.geometry_version != 0;
+  status.set_depth_geometry_age_s(
+      any ? std::chrono::duration<double>(DepthClock::now() - depth.geometry_arrival).count() : -1);
+  status.set_depth_update_ms(depth.update_ms);
+  status.set_measured_depth(depth.measured_fraction);
+  const Source& source = channel(state.spec.source).source();
+  const SourceGeometry& g = geometry(source.name());
+  std::string message;
+  if (!source.provides_clouds()) {
+    message = "source '" + source.name() + "' (type " + source.type() +
+              ") delivers no lidar clouds: the view stands on its fixed surface";
+  } else if (!g.message().empty()) {
+    message = g.message();
+  } else if (!any) {
+    message = subscribers == 0 ? "not watched: the surface follows the lidar only while someone watches the view"
+                               : "waiting for the source's first lidar cloud";
+  }
+  status.set_depth_message(message);
+}
+
+}  // namespace omniview

@@ -1,0 +1,334 @@
+// Depth-aware views served by the daemon (issue 32): spot-mock's lidar and cameras in its
+// test scene (the floor z = 0 and a wall at x = 3 m), the real omniviewd, real gRPC
+// clients. The same view with `depth: fixed` (a plane 8 m ahead) and `depth: measured`
+// is compared with what a camera at the view's pose sees of the mock's own scene
+// (ray-cast), and its clicks (PixelToRay) with where its rays meet that scene.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <opencv2/core.hpp>
+
+#include "core/io/image_codec.h"
+#include "core/io/yaml_reader.h"
+#include "core/synthetic/scene.h"
+#include "core/view/view.h"
+#include "core/view/view_yaml.h"
+#include "server/convert/convert.h"
+#include "spot_adapter/mock/world/mock_scene.h"
+#include "tests/server/daemon_process.h"
+#include "tests/spot_mock/spot_mock_process.h"
+
+namespace omniview::testing {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+std::chrono::milliseconds scaled(std::chrono::milliseconds t) {
+  return std::chrono::milliseconds(static_cast<int64_t>(t.count() * test_time_scale()));
+}
+
+template <typename F>
+bool eventually(F&& done, std::chrono::milliseconds timeout) {
+  const auto deadline = Clock::now() + scaled(timeout);
+  while (Clock::now() < deadline) {
+    if (done()) return true;
+    std::this_thread::sleep_for(50ms);
+  }
+  return done();
+}
+
+// spot-mock's counter of GetPointCloud calls.
+double cloud_calls(const SpotMockProcess& mock) {
+  const auto r = mock.control("--counters");
+  std::istringstream lines(r.text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("get_point_cloud_calls=", 0) == 0) return std::stod(line.substr(line.find('=') + 1));
+  }
+  ADD_FAILURE() << "no get_point_cloud_calls in:\n" << r.text;
+  return -1;
+}
+
+// A view looking ahead and down from the body: the floor from 1 m and the wall at 3 m,
+// seen by both front cameras (their seam runs down the middle). As a user would set it up:
+// the surface ends at the floor (`ground`), so what neither surface nor lidar covers (the
+// floor the lidar's rings do not reach near the robot) is seen right either way; the plane
+// 8 m ahead stands for any guess that is not the wall.
+v1::ViewSpec front_view(const std::string& name, v1::Depth depth) {
+  v1::ViewSpec s;
+  s.set_name(name);
+  s.set_type(v1::PERSPECTIVE);
+  s.set_source("spot");
+  s.set_frame("body");
+  s.set_width(320);
+  s.set_height(240);
+  s.set_hfov_deg(80);
+  s.set_pitch_deg(10);
+  s.set_distance(8);
+  s.set_ground(true);
+  s.set_ground_z(-spot_mock::kBodyHeightM);
+  s.set_depth(depth);
+  return s;
+}
+
+// Reads a view's RAW frames on its own thread and keeps the newest.
+class LatestFrame {
+ public:
+  LatestFrame(v1::Omniview::Stub& stub, const std::string& view) {
+    context_ = make_context("", 300s);
+    v1::StreamFramesRequest r;
+    r.set_view(view);
+    r.set_encoding(v1::RAW);
+    reader_ = stub.StreamFrames(context_.get(), r);
+    thread_ = std::thread([this] {
+      v1::Frame f;
+      while (reader_->Read(&f)) {
+        std::lock_guard lock(mutex_);
+        latest_ = f;
+        ++count_;
+      }
+    });
+  }
+  ~LatestFrame() {
+    context_->TryCancel();
+    thread_.join();
+  }
+  v1::Frame get() const {
+    std::lock_guard lock(mutex_);
+    return latest_;
+  }
+  size_t count() const {
+    std::lock_guard lock(mutex_);
+    return count_;
+  }
+
+ private:
+  std::unique_ptr<grpc::ClientContext> context_;
+  std::unique_ptr<grpc::ClientReader<v1::Frame>> reader_;
+  std::thread thread_;
+  mutable std::mutex mutex_;
+  v1::Frame latest_;
+  size_t count_ = 0;
+};
+
+// What a camera at the view's pose sees of the mock's scene (grey, one ray per pixel
+// centre; 0 where the ray hits nothing), and each pixel's hit in the body frame.
+struct Truth {
+  cv::Mat grey;
+  std::vector<Vec3> hit_body;  // NaN: none
+};
+
+Truth ray_cast(const v1::View& described) {
+  const auto reader = YamlReader::from_string(described.yaml(), "view");
+  const ViewSpec spec = parse_view(reader, reader.root(), "view");
+  const auto view = View::create(spec);
+  const Rig rig = spot_mock::mock_rig();
+  const Pose T_vision_body = rig.frames().lookup(spot_mock::kWorldFrame, spot_mock::kBodyFrame);
+  const Pose T_body_view = from_proto(described.pose());  // the view in the robot frame "body"
+  const Pose T_vision_view = T_vision_body * T_body_view;
+  const synthetic::Scene scene = spot_mock::make_scene(spot_mock::SceneKind::kTest);
+  Truth t;
+  t.grey = cv::Mat(spec.height, spec.width, CV_8UC1, cv::Scalar(0));
+  t.hit_body.assign(size_t(spec.width) * spec.height, Vec3::Constant(std::nan("")));
+  for (int v = 0; v < spec.height; ++v) {
+    for (int u = 0; u < spec.width; ++u) {
+      Vec3 dir;
+      if (!view->pixel_to_direction(u, v, dir)) continue;
+      const auto hit = scene.intersect(T_vision_view.translation(), T_vision_view.linear() * dir);
+      if (!hit) continue;
+      const Vec3 bgr = scene.colour(*hit);
+      t.grey.at<uint8_t>(v, u) = cv::saturate_cast<uint8_t>(0.114 * bgr[0] + 0.587 * bgr[1] + 0.299 * bgr[2]);
+      t.hit_body[size_t(v) * spec.width + u] = T_vision_body.inverse() * hit->point;
+    }
+  }
+  return t;
+}
+
+// On the wall, below where the lidar's top ring meets it (+15 deg from 0.2 m above the
+// body's origin: 1.0 m at the wall); above that the view falls back to its plane.
+bool on_wall(const Vec3& hit_body) {
+  return std::abs(hit_body.x() - spot_mock::kTestWallX) < 0.01 && hit_body.z() < 0.9;
+}
+
+// PSNR of a RAW grey frame against the truth, over the pixels both show (and, with
+// `wall_only`, whose truth is on the wall).
+double psnr(const v1::Frame& f, const Truth& truth, size_t* compared = nullptr, bool wall_only = false) {
+  EXPECT_EQ(f.channels(), 1);
+  const cv::Mat image(f.height(), f.width(), CV_8UC1, const_cast<char*>(f.data().data()));
+  double error = 0;
+  size_t n = 0;
+  for (int v = 0; v < image.rows; ++v) {
+    for (int u = 0; u < image.cols; ++u) {
+      if (image.at<uint8_t>(v, u) == 0 || truth.grey.at<uint8_t>(v, u) == 0) continue;
+      if (wall_only && !on_wall(truth.hit_body[size_t(v) * image.cols + u])) continue;
+      const double d = double(image.at<uint8_t>(v, u)) - truth.grey.at<uint8_t>(v, u);
+      error += d * d;
+      ++n;
+    }
+  }
+  if (compared) *compared = n;
+  return n == 0 ? 0 : 10 * std::log10(255.0 * 255.0 / std::max(error / n, 1e-9));
+}
+
+class DepthViews : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    mock_ = std::make_unique<SpotMockProcess>(dir_.path(), std::vector<std::string>{"--scene", "test"});
+    std::ostringstream config;
+    config << "listen: 127.0.0.1:0\n"
+           << "sources:\n"
+           << "  - name: spot\n"
+           << "    type: spot\n"
+           << "    robot: 127.0.0.1:" << mock_->port() << "\n"
+           << "    ca_file: " << mock_->certs_dir() << "/ca.pem\n"
+           << "    credentials_file: " << mock_->credentials_file() << "\n"
+           << "    rate_hz: 10\n";
+    daemon_ = std::make_unique<DaemonProcess>(dir_, config.str());
+    stub_ = make_stub(daemon_->address());
+    ASSERT_TRUE(eventually([&] { return status().sources_size() > 0 && status().sources(0).connected(); }, 20s))
+        << daemon_->log();
+    for (const auto depth : {v1::FIXED, v1::MEASURED}) {
+      v1::CreateViewRequest r;
+      *r.mutable_spec() = front_view(depth == v1::FIXED ? "fixed" : "measured", depth);
+      v1::View created;
+      const grpc::Status s = stub_->CreateView(make_context().get(), r, &created);
+      ASSERT_TRUE(s.ok()) << s.error_message();
+      EXPECT_EQ(created.spec().depth(), depth);
+    }
+  }
+
+  v1::Status status() {
+    v1::Status st;
+    stub_->GetStatus(make_context().get(), v1::GetStatusRequest(), &st);
+    return st;
+  }
+  v1::ViewStatus view_status(const std::string& name) {
+    const v1::Status st = status();
+    for (const auto& v : st.views()) {
+      if (v.name() == name) return v;
+    }
+    ADD_FAILURE() << "no view " << name << " in the status";
+    return {};
+  }
+  v1::PixelToRayResponse click(const std::string& view, double u, double v) {
+    v1::PixelToRayRequest r;
+    r.set_view(view);
+    r.set_u(u);
+    r.set_v(v);
+    v1::PixelToRayResponse out;
+    EXPECT_TRUE(stub_->PixelToRay(make_context().get(), r, &out).ok());
+    return out;
+  }
+
+  TempDir dir_;
+  std::unique_ptr<SpotMockProcess> mock_;
+  std::unique_ptr<DaemonProcess> daemon_;
+  std::unique_ptr<v1::Omniview::Stub> stub_;
+};
+
+TEST_F(DepthViews, AMeasuredViewStandsOnTheLidarsSceneWhereTheFixedOneGuesses) {
+  // Only a fixed view watched: nobody needs the lidar.
+  {
+    LatestFrame fixed(*stub_, "fixed");
+    ASSERT_TRUE(eventually([&] { return fixed.count() >= 3; }, 20s)) << daemon_->log();
+    EXPECT_EQ(cloud_calls(*mock_), 0) << "clouds pulled with no depth view watched";
+    EXPECT_EQ(fixed.get().measured_depth(), 0);
+  }
+  const v1::ViewStatus unwatched = view_status("measured");
+  EXPECT_EQ(unwatched.depth_geometry_age_s(), -1);
+  EXPECT_NE(unwatched.depth_message().find("not watched"), std::string::npos) << unwatched.depth_message();
+
+  LatestFrame fixed(*stub_, "fixed");
+  LatestFrame measured(*stub_, "measured");
+  ASSERT_TRUE(eventually([&] { return measured.get().measured_depth() > 0.2 && fixed.count() > 0; }, 30s))
+      << "measured_depth " << measured.get().measured_depth() << "\n" << view_status("measured").DebugString()
+      << daemon_->log();
+  EXPECT_GT(cloud_calls(*mock_), 0);
+
+  const v1::ViewStatus st = view_status("measured");
+  std::cout << "depth view: " << st.DebugString();
+  EXPECT_GE(st.depth_updates(), 1u);
+  EXPECT_GE(st.depth_geometry_age_s(), 0);
+  EXPECT_LT(st.depth_geometry_age_s(), 5 * test_time_scale());
+  EXPECT_GT(st.depth_update_ms(), 0);
+  EXPECT_GT(st.measured_depth(), 0.2);
+  EXPECT_EQ(st.depth_message(), "");
+  const v1::ViewStatus fixed_status = view_status("fixed");
+  EXPECT_EQ(fixed_status.depth_updates(), 0u);
+  EXPECT_EQ(fixed_status.measured_depth(), 0);
+
+  // The pictures against what a camera at the view's pose sees of the scene: all of it,
+  // and the wall the lidar reaches (where the two surfaces differ).
+  const v1::Frame f_fixed = fixed.get(), f_measured = measured.get();
+  const Truth truth = ray_cast(f_measured.camera());
+  if (const char* dir = std::getenv("OMNIVIEW_DEPTH_DUMP")) {  // the pictures, to look at
+    const auto grey = [](const v1::Frame& f) { return cv::Mat(f.height(), f.width(), CV_8UC1, const_cast<char*>(f.data().data())); };
+    std::vector<cv::Mat> rows = {grey(f_fixed), grey(f_measured), truth.grey};
+    cv::Mat stack;
+    cv::vconcat(rows, stack);
+    write_image(std::string(dir) + "/depth_view_fixed_measured_truth.png", stack);
+  }
+  size_t n_fixed = 0, n_measured = 0, n_wall = 0;
+  const double db_fixed = psnr(f_fixed, truth, &n_fixed), db_measured = psnr(f_measured, truth, &n_measured);
+  const double wall_fixed = psnr(f_fixed, truth, nullptr, true), wall_measured = psnr(f_measured, truth, &n_wall, true);
+  std::cout << "PSNR against the ray-cast scene: fixed " << db_fixed << " dB (" << n_fixed << " px), measured "
+            << db_measured << " dB (" << n_measured << " px); on the wall (" << n_wall << " px): fixed " << wall_fixed
+            << " dB, measured " << wall_measured << " dB\n";
+  EXPECT_GT(n_measured, 0.5 * 320 * 240);
+  ASSERT_GT(n_wall, 0.1 * 320 * 240);
+  EXPECT_GT(wall_measured, wall_fixed + 6);
+  EXPECT_GT(db_measured, db_fixed + 3);
+
+  // A click on the wall (between the lidar's rings) lands where the pixel's ray meets it (body frame), not on the plane.
+  int clicks = 0;
+  for (const int u : {60, 160, 260}) {
+    for (int v = 0; v < 240; v += 4) {
+      const Vec3 expected = truth.hit_body[size_t(v) * 320 + u];
+      if (!expected.allFinite() || !on_wall(expected) || expected.z() < 0.3 - spot_mock::kBodyHeightM ||
+          expected.z() > 0.6) {
+        continue;
+      }
+      const auto on_measured = click("measured", u, v), on_fixed = click("fixed", u, v);
+      ASSERT_TRUE(on_measured.valid());
+      const Vec3 m = from_proto(on_measured.surface_point()), x = from_proto(on_fixed.surface_point());
+      EXPECT_LT((m - expected).norm(), 0.05 * expected.norm())
+          << "pixel " << u << "," << v << ": measured surface at " << m.transpose() << ", the wall at " << expected.transpose();
+      EXPECT_GT((x - expected).norm(), 1.0) << "the fixed plane lies on the wall here";
+      ++clicks;
+      break;
+    }
+  }
+  EXPECT_EQ(clicks, 3) << "the view sees too little of the wall";
+}
+
+TEST_F(DepthViews, AViewChangedKeepsStandingOnMeasuredDepth) {
+  LatestFrame measured(*stub_, "measured");
+  ASSERT_TRUE(eventually([&] { return measured.get().measured_depth() > 0.2; }, 30s)) << daemon_->log();
+  // A pan (a joystick step): the new revision's first frame already stands on the geometry.
+  v1::UpdateViewRequest r;
+  r.set_name("measured");
+  r.mutable_delta()->set_yaw_deg(10);
+  v1::View updated;
+  ASSERT_TRUE(stub_->UpdateView(make_context().get(), r, &updated).ok());
+  ASSERT_TRUE(eventually([&] { return measured.get().camera().revision() == updated.revision(); }, 10s));
+  EXPECT_GT(measured.get().measured_depth(), 0.2);
+  // And back to fixed: no measured depth, no geometry.
+  v1::UpdateViewRequest fixed;
+  fixed.set_name("measured");
+  fixed.mutable_set()->set_depth(v1::FIXED);
+  ASSERT_TRUE(stub_->UpdateView(make_context().get(), fixed, &updated).ok());
+  EXPECT_EQ(updated.spec().depth(), v1::FIXED);
+  ASSERT_TRUE(eventually([&] { return measured.get().camera().revision() == updated.revision(); }, 10s));
+  EXPECT_EQ(measured.get().measured_depth(), 0);
+  EXPECT_EQ(view_status("measured").depth_message(), "");
+}
+
+}  // namespace
+}  // namespace omniview::testing
