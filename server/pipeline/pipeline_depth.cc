@@ -27,7 +27,7 @@ bool Pipeline::depth_watched(const std::string& source) const {
 }
 
 void Pipeline::deliver_geometry(SourceChannel& ch, const FrameSet& frames) {
-  if (!frames.cloud) return;
+  if (!frames.cloud && frames.depth.empty()) return;
   const std::string& name = ch.source().name();
   std::vector<std::string> watched;
   {
@@ -39,7 +39,10 @@ void Pipeline::deliver_geometry(SourceChannel& ch, const FrameSet& frames) {
   }
   if (watched.empty()) return;
   const auto rig = frames.rig ? frames.rig : this->rig(name);
-  geometry(name).add(*frames.cloud, *rig, frames.motion.get(), frames.arrival);
+  std::vector<const PointCloud*> clouds;
+  if (frames.cloud) clouds.push_back(frames.cloud.get());
+  for (const auto& d : frames.depth) clouds.push_back(d.get());
+  geometry(name).add(clouds, *rig, frames.motion.get(), frames.arrival);
   for (const auto& view : watched) depth_updates_->request(view);
 }
 
@@ -98,14 +101,14 @@ void Pipeline::describe_depth(const ViewState& state, size_t subscribers, v1::Vi
   const Source& source = channel(state.spec.source).source();
   const SourceGeometry& g = geometry(source.name());
   std::string message;
-  if (!source.provides_clouds()) {
+  if (!source.provides_clouds() && !any) {
     message = "source '" + source.name() + "' (type " + source.type() +
               ") delivers no lidar clouds: the view stands on its fixed surface";
   } else if (!g.message().empty()) {
     message = g.message();
   } else if (!any) {
     message = subscribers == 0 ? "not watched: the surface follows the lidar only while someone watches the view"
-                               : "waiting for the source's first lidar cloud";
+                               : "waiting for the source's first lidar cloud or depth image";
   }
   status.set_depth_message(message);
 }

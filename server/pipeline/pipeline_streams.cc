@@ -125,8 +125,10 @@ void Pipeline::update_wanted_cameras(const std::string& source) {
   // Sampling first: a source that starts decoding for a new watcher then decodes at the
   // size the views need from its first frame.
   ch->source().set_camera_sampling(spacing);
-  // A watched depth view needs the clouds, not every camera.
-  ch->source().set_cloud_wanted(cloud_wanted || depth_watched(source));
+  // A watched depth view needs the clouds (and depth images), not every camera.
+  const bool depth = depth_watched(source);
+  ch->source().set_cloud_wanted(cloud_wanted || depth);
+  ch->source().set_depth_wanted(depth);
   ch->source().set_wanted_cameras(wanted);
 }
 

@@ -41,6 +41,9 @@ struct FrameSet {
   // A lidar cloud taken with these images (its own frame and stamp), for coloured clouds;
   // null when the source has none this cycle or nobody wants clouds (Source::set_cloud_wanted).
   std::shared_ptr<const PointCloud> cloud;
+  // Depth images as points, one cloud per depth camera in its own frame, while a depth view
+  // is watched (Source::set_depth_wanted); empty otherwise.
+  std::vector<std::shared_ptr<const PointCloud>> depth;
   // The robot's recent motion: the rig's default frame in a fixed frame (odometry) over the
   // last moments, up to these images, so a cloud can be coloured from images taken while the
   // robot moved (time sync). Null when the source knows none: the robot is assumed still.

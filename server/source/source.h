@@ -63,6 +63,10 @@ class Source {
   // Whether someone watches a cloud of this source. A source that can choose (a robot over
   // Wi-Fi) pulls clouds only while it is set, and attaches them to its frame sets.
   virtual void set_cloud_wanted(bool wanted) { (void)wanted; }
+  // Whether a depth-aware view (`depth: measured`) of this source is watched. A source with
+  // depth cameras (Spot's `*_depth_in_visual_frame`) then attaches their depth as points
+  // (FrameSet::depth).
+  virtual void set_depth_wanted(bool wanted) { (void)wanted; }
 
   virtual SourceHealth health() const = 0;
 

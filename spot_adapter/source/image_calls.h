@@ -25,6 +25,7 @@ struct ImageCall {
   bosdyn::api::GetImageRequest request;
   bosdyn::api::GetImageResponse response;
   std::vector<size_t> wanted;  // the slots asked for, in request order
+  std::vector<size_t> depth;   // the slots whose depth was asked for after them
   grpc::Status status;
   bool done = false;  // guarded by ImageCalls' mutex until the call is taken
 };

@@ -22,6 +22,8 @@ using Clock = std::chrono::steady_clock;
 using std::chrono::milliseconds;
 
 constexpr auto kErrorLogInterval = std::chrono::seconds(30);
+// Depth images (while a depth view is watched) with at most one image call this often.
+constexpr auto kDepthInterval = std::chrono::milliseconds(500);
 constexpr auto kChannelResetInterval = std::chrono::seconds(10);
 // Legs move slower than cameras need frames: joint angles at 5 Hz are enough for the overlay.
 constexpr auto kJointInterval = milliseconds(200);
@@ -91,6 +93,11 @@ void SpotSource::set_cloud_wanted(bool wanted) {
   std::lock_guard lock(mutex_);
   if (wanted && !cloud_wanted_) cloud_rewanted_ = true;
   cloud_wanted_ = wanted;
+}
+
+void SpotSource::set_depth_wanted(bool wanted) {
+  std::lock_guard lock(mutex_);
+  depth_wanted_ = wanted;
 }
 
 std::shared_ptr<const PointCloud> SpotSource::next_cloud() {
@@ -229,7 +236,20 @@ void SpotSource::fill_gaps(ImageSet& set, const std::vector<size_t>& wanted, Clo
 void SpotSource::start_call(const std::vector<size_t>& wanted) {
   auto call = std::make_unique<ImageCall>();
   call->wanted = wanted;
-  call->request = image_request(session_, settings_, slots_, wanted);
+  bool depth_wanted;
+  {
+    std::lock_guard lock(mutex_);
+    depth_wanted = depth_wanted_;
+  }
+  // Depth rides along with every call kDepthInterval apart: a depth image is 600 KB raw,
+  // five of them with every image set would be 45 MB/s at 15 Hz.
+  if (depth_wanted && Clock::now() - last_depth_call_ >= kDepthInterval) {
+    for (size_t i : wanted) {
+      if (!slots_[i].depth_source.empty()) call->depth.push_back(i);
+    }
+    if (!call->depth.empty()) last_depth_call_ = Clock::now();
+  }
+  call->request = image_request(session_, settings_, slots_, wanted, call->depth);
   call->stub = api::ImageService::NewStub(session_.service_channel("image"));
   session_.prepare(call->context, true);
   calls_.start(std::move(call));
@@ -238,7 +258,17 @@ void SpotSource::start_call(const std::vector<size_t>& wanted) {
 void SpotSource::finish_call(ImageCall& call) {
   check_status(call.status, "GetImage");
   const std::vector<size_t>& wanted = call.wanted;
-  ImageSet set = images_from_response(call.request, call.response, slots_, wanted);
+  ImageSet set = images_from_response(call.request, call.response, slots_, wanted, call.depth);
+  if (!set.depth_problems.empty()) {
+    {
+      std::lock_guard lock(mutex_);
+      health_.errors += set.depth_problems.size();
+    }
+    if (Clock::now() - last_error_log_ > kErrorLogInterval) {
+      log("skipped " + std::to_string(set.depth_problems.size()) + " bad depth image(s): " + set.depth_problems.front());
+      last_error_log_ = Clock::now();
+    }
+  }
   const auto arrival = Clock::now();
   {
     std::lock_guard lock(mutex_);
@@ -305,6 +335,13 @@ void SpotSource::finish_call(ImageCall& call) {
   frames->encoded = std::move(set.encoded);
   frames->joints = joints_;
   frames->cloud = next_cloud();
+  for (auto& d : set.depth) {
+    auto cloud = std::make_shared<PointCloud>();
+    cloud->frame = slots_[d.slot].camera.name;  // the camera's optical frame
+    cloud->stamp = frames->capture_time;
+    cloud->points = std::move(d.points);
+    frames->depth.push_back(std::move(cloud));
+  }
   if (const auto T_odom_body = pose_in_snapshot(set.edges, kOdomFrame, kBodyFrame)) {
     try {
       motion_.add(frames->capture_time, *T_odom_body);

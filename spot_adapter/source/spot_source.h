@@ -42,6 +42,7 @@ class SpotSource : public Source {
   void set_wanted_cameras(const std::vector<bool>& wanted) override;
   bool provides_clouds() const override;
   void set_cloud_wanted(bool wanted) override;
+  void set_depth_wanted(bool wanted) override;
   SourceHealth health() const override;
   std::shared_ptr<const std::map<std::string, double>> latest_joints() const override;
 
@@ -93,6 +94,7 @@ class SpotSource : public Source {
   std::chrono::steady_clock::time_point last_error_log_;
   std::chrono::steady_clock::time_point last_rig_change_;
   std::chrono::steady_clock::time_point last_channel_reset_;
+  std::chrono::steady_clock::time_point last_depth_call_;  // the last image call that asked for depth
   std::string connect_note_;  // configured cameras the robot lacks, shown in status
   // Joint positions for the robot overlay, read at most kJointInterval apart while pulling.
   std::shared_ptr<const std::map<std::string, double>> joints_;
@@ -117,6 +119,7 @@ class SpotSource : public Source {
   bool stopping_ = false;
   std::vector<bool> wanted_;  // by rig camera (= slot) index
   bool cloud_wanted_ = false;
+  bool depth_wanted_ = false;  // depth images with the images, every kDepthInterval
   bool cloud_rewanted_ = false;  // wanted again since the last cycle (next_cloud drops what is held)
   bool clouds_missing_ = false;  // connected, and the robot has no (such) point-cloud source
   std::shared_ptr<const std::map<std::string, double>> latest_joints_;

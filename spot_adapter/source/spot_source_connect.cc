@@ -7,6 +7,7 @@
 
 #include "bosdyn/api/image_service.grpc.pb.h"
 #include "spot_adapter/convert/camera_model_from_source.h"
+#include "spot_adapter/convert/depth_from_response.h"
 #include "spot_adapter/source/joint_states.h"
 #include "spot_adapter/source/spot_rig.h"
 #include "spot_adapter/source/spot_source.h"
@@ -115,6 +116,9 @@ void SpotSource::connect() {
     slot.camera = camera_from_image_source(*it);
     slot.camera.name = sensor_frame_in(tree, name);
     slot.pixel_format = settings_.prefer_rgb ? api::Image::PIXEL_FORMAT_RGB_U8 : api::Image::PIXEL_FORMAT_GREYSCALE_U8;
+    // Its registered depth, where the robot has it (depth-aware views ask for it).
+    const std::string depth = depth_source_for(name);
+    if (std::find(available.begin(), available.end(), depth) != available.end()) slot.depth_source = depth;
     slots.push_back(std::move(slot));
   }
   if (slots.empty()) {

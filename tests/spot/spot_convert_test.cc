@@ -7,6 +7,7 @@
 #include "core/io/image_codec.h"
 #include "spot_adapter/client/spot_error.h"
 #include "spot_adapter/convert/camera_model_from_source.h"
+#include "spot_adapter/convert/depth_from_response.h"
 #include "spot_adapter/convert/frame_tree.h"
 #include "spot_adapter/convert/image_from_response.h"
 #include "spot_adapter/source/spot_rig.h"
@@ -194,6 +195,51 @@ TEST(ImageFromResponse, BadResponsesAreClearErrorsNamingTheCamera) {
 
   auto depth = response(grey, api::Image::FORMAT_RAW, api::Image::PIXEL_FORMAT_DEPTH_U16);
   EXPECT_NE(error_of([&] { decode_image_response(depth, "left", 64, 48); }).find("not a visual image"), std::string::npos);
+}
+
+// A depth image as Spot sends it: RAW DEPTH_U16, little-endian, `scale` per metre.
+api::ImageResponse depth_response(int cols, int rows, double scale, const std::vector<uint16_t>& values) {
+  api::ImageResponse r;
+  r.set_status(api::ImageResponse::STATUS_OK);
+  *r.mutable_source() = pinhole_source("frontleft_depth_in_visual_frame");
+  r.mutable_source()->set_depth_scale(scale);
+  auto* img = r.mutable_shot()->mutable_image();
+  img->set_cols(cols);
+  img->set_rows(rows);
+  img->set_format(api::Image::FORMAT_RAW);
+  img->set_pixel_format(api::Image::PIXEL_FORMAT_DEPTH_U16);
+  std::string bytes;
+  for (uint16_t v : values) bytes += static_cast<char>(v & 0xff), bytes += static_cast<char>(v >> 8);
+  img->set_data(bytes);
+  return r;
+}
+
+TEST(DepthFromResponse, PointsAlongTheCameraRaysAtTheirDepthAndBadImagesNamed) {
+  EXPECT_EQ(depth_source_for("frontleft_fisheye_image"), "frontleft_depth_in_visual_frame");
+  EXPECT_EQ(depth_source_for("hand_image"), "hand_depth_in_visual_frame");
+  Camera cam = camera_from_image_source(pinhole_source());
+  cam.name = "frontleft_fisheye";
+  // 640x480 all at 2.5 m but for the principal point's row, 0 (nothing measured) and 60 m.
+  std::vector<uint16_t> values(640 * 480, 2500);
+  for (int u = 0; u < 640; ++u) values[size_t(240) * 640 + u] = u < 320 ? 0 : 60000;
+  const auto points = points_from_depth_response(depth_response(640, 480, 1000, values), cam, 4);
+  ASSERT_EQ(points.size(), size_t(160 * 120 - 160));  // row 240 holds nothing usable
+  for (const auto& p : points) EXPECT_NEAR(p.z(), 2.5f, 1e-4f);
+  // Pixel (0, 0): (0 - 319.5) / 330 * 2.5 m to the left, and as far up.
+  EXPECT_NEAR(points.front().x(), -319.5 / 330 * 2.5, 1e-4);
+  EXPECT_NEAR(points.front().y(), -239.5 / 330 * 2.5, 1e-4);
+
+  const auto error = [&](const api::ImageResponse& r) { return error_of([&] { points_from_depth_response(r, cam, 4); }); };
+  EXPECT_NE(error(depth_response(320, 240, 1000, std::vector<uint16_t>(320 * 240))).find("depth of camera 'frontleft_fisheye': image is 320x240, the camera is calibrated for 640x480"),
+            std::string::npos);
+  EXPECT_NE(error(depth_response(640, 480, 1000, std::vector<uint16_t>(100))).find("carries 200 bytes"), std::string::npos);
+  EXPECT_NE(error(depth_response(640, 480, 0, values)).find("no usable depth_scale"), std::string::npos);
+  auto grey = depth_response(640, 480, 1000, values);
+  grey.mutable_shot()->mutable_image()->set_pixel_format(api::Image::PIXEL_FORMAT_GREYSCALE_U8);
+  EXPECT_NE(error(grey).find("expected RAW DEPTH_U16"), std::string::npos);
+  auto refused = depth_response(640, 480, 1000, values);
+  refused.set_status(api::ImageResponse::STATUS_UNKNOWN_CAMERA);
+  EXPECT_NE(error(refused).find("STATUS_UNKNOWN_CAMERA"), std::string::npos);
 }
 
 TEST(SpotRig, CamerasHangInTheTreeAndFootprintSitsOnTheGround) {

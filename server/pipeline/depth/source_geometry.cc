@@ -1,15 +1,35 @@
 #include "server/pipeline/depth/source_geometry.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace omniview {
 
 void SourceGeometry::add(const PointCloud& cloud, const Rig& rig, const Trajectory* motion,
                          std::chrono::steady_clock::time_point arrival) {
+  add({&cloud}, rig, motion, arrival);
+}
+
+void SourceGeometry::add(const std::vector<const PointCloud*>& clouds, const Rig& rig, const Trajectory* motion,
+                         std::chrono::steady_clock::time_point arrival) {
+  bool added = false;
+  for (const PointCloud* cloud : clouds) added = take(*cloud, rig) || added;
+  if (added) rebuild(rig.default_frame(), motion, arrival);
+}
+
+bool SourceGeometry::take(const PointCloud& cloud, const Rig& rig) {
   const std::string robot = rig.default_frame();
-  const auto T_robot_cloud = rig.frames().try_lookup(robot, cloud.frame);
+  // A depth camera's points are in its optical frame: the rig's camera pose, not the frame
+  // link of the same name.
+  std::optional<Pose> T_robot_cloud;
+  bool from_camera = false;
+  for (size_t i = 0; i < rig.cameras().size(); ++i) {
+    if (rig.cameras()[i].name == cloud.frame) T_robot_cloud = rig.camera_pose(robot, i), from_camera = true;
+  }
+  if (!T_robot_cloud) T_robot_cloud = rig.frames().try_lookup(robot, cloud.frame);
   Cloud entry;
   entry.stamp = cloud.stamp;
+  entry.keep = from_camera ? options_.keep_depth_images : options_.keep;
   if (T_robot_cloud) {
     const Eigen::Matrix3f R = T_robot_cloud->linear().cast<float>();
     const Eigen::Vector3f t = T_robot_cloud->translation().cast<float>();
@@ -21,16 +41,23 @@ void SourceGeometry::add(const PointCloud& cloud, const Rig& rig, const Trajecto
   std::lock_guard lock(mutex_);
   if (!T_robot_cloud || entry.points.empty()) {
     ++skipped_;
-    message_ = !T_robot_cloud ? "a lidar cloud in frame '" + cloud.frame + "', which is not connected to the rig's '" +
+    message_ = !T_robot_cloud ? "points in frame '" + cloud.frame + "', which is not connected to the rig's '" +
                                     robot + "': skipped"
-                              : "a lidar cloud with no finite point: skipped";
-    return;
+                              : "a cloud of points with no finite point: skipped";
+    return false;
   }
   message_.clear();
   clouds_.push_back(std::move(entry));
+  return true;
+}
+
+void SourceGeometry::rebuild(const std::string& robot_frame, const Trajectory* motion,
+                             std::chrono::steady_clock::time_point arrival) {
+  std::lock_guard lock(mutex_);
   // Age out by capture time behind the newest, then keep within the point budget.
-  const auto newest = clouds_.back().stamp;
-  while (clouds_.size() > 1 && newest - clouds_.front().stamp > options_.keep) clouds_.pop_front();
+  auto newest = clouds_.back().stamp;
+  for (const auto& c : clouds_) newest = std::max(newest, c.stamp);
+  std::erase_if(clouds_, [&](const Cloud& c) { return newest - c.stamp > c.keep; });
   size_t total = 0;
   for (const auto& c : clouds_) total += c.points.size();
   while (clouds_.size() > 1 && total > options_.max_points) {
@@ -47,13 +74,15 @@ void SourceGeometry::add(const PointCloud& cloud, const Rig& rig, const Trajecto
     const Eigen::Matrix3f R = T_now_then.linear().cast<float>();
     const Eigen::Vector3f t = T_now_then.translation().cast<float>();
     // The newest cloud alone may exceed the budget: keep an even subset of it.
-    const size_t step = c.points.size() > options_.max_points ? (c.points.size() + options_.max_points - 1) / options_.max_points : 1;
+    const size_t step = c.points.size() > options_.max_points
+                            ? (c.points.size() + options_.max_points - 1) / options_.max_points
+                            : 1;
     for (size_t i = 0; i < c.points.size(); i += step) points->push_back(R * c.points[i] + t);
   }
   GeometrySnapshot snapshot;
   snapshot.version = ++version_;
   snapshot.points = std::move(points);
-  snapshot.frame = robot;
+  snapshot.frame = robot_frame;
   snapshot.stamp = newest;
   snapshot.arrival = arrival;
   snapshot.clouds = clouds_.size();

@@ -30,6 +30,8 @@ struct GeometryOptions {
   // Clouds older than this (capture time, behind the newest) leave the set: 5 rotations of
   // a 10 Hz lidar. Longer smears what moves; shorter leaves the rings apart.
   std::chrono::milliseconds keep{500};
+  // Depth images (a robot's depth cameras, asked for every 0.5 s): kept for two of them.
+  std::chrono::milliseconds keep_depth_images{1000};
   // The most points kept (the oldest clouds go first): ~10 rotations of a VLP-16, 1.5
   // rotations of a 32-beam lidar, and what a depth update of a 1024x512 view handles in
   // tens of milliseconds (bench/depth_bench).
@@ -50,10 +52,14 @@ class SourceGeometry {
  public:
   explicit SourceGeometry(GeometryOptions options = {}) : options_(options) {}
 
-  // Adds a cloud delivered with `rig` (its points in one of the rig's frames) and the
-  // robot's recent motion (null: the robot is taken to be still). A cloud whose frame the
-  // rig does not know, or with no finite point, is counted and skipped (message()).
+  // Adds a cloud delivered with `rig` (its points in one of the rig's frames, or a camera's
+  // optical frame for a depth camera's points) and the robot's recent motion (null: the
+  // robot is taken to be still). A cloud whose frame the rig does not know, or with no
+  // finite point, is counted and skipped (message()).
   void add(const PointCloud& cloud, const Rig& rig, const Trajectory* motion,
+           std::chrono::steady_clock::time_point arrival);
+  // Several at once (a frame set's lidar cloud and depth images): one new snapshot.
+  void add(const std::vector<const PointCloud*>& clouds, const Rig& rig, const Trajectory* motion,
            std::chrono::steady_clock::time_point arrival);
 
   std::optional<GeometrySnapshot> latest() const;
@@ -68,8 +74,11 @@ class SourceGeometry {
  private:
   struct Cloud {
     std::chrono::system_clock::time_point stamp;
+    std::chrono::milliseconds keep;
     std::vector<Eigen::Vector3f> points;  // in the robot frame at `stamp`
   };
+  bool take(const PointCloud& cloud, const Rig& rig);  // false: skipped
+  void rebuild(const std::string& robot_frame, const Trajectory* motion, std::chrono::steady_clock::time_point arrival);
 
   const GeometryOptions options_;
   mutable std::mutex mutex_;
