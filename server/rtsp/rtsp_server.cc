@@ -215,8 +215,9 @@ bool RtspServer::Impl::admit(GstRTSPContext* ctx) {
 // A connection accepted (after admit said yes): it takes the slot admit reserved, freed
 // with the client object.
 void RtspServer::Impl::connected(GstRTSPClient* client) {
-  g_object_set_data_full(G_OBJECT(client), "omniview-state", new ClientState{std::move(admitted)},
-                         destroy_client_state);
+  auto* state = new ClientState;
+  state->slot = std::move(admitted);
+  g_object_set_data_full(G_OBJECT(client), "omniview-state", state, destroy_client_state);
   g_signal_connect(client, "play-request", G_CALLBACK(on_play_request), nullptr);
   g_signal_connect(client, "pause-request", G_CALLBACK(on_pause_request), nullptr);
   g_signal_connect(client, "new-session", G_CALLBACK(on_new_session), nullptr);

@@ -54,7 +54,9 @@ TEST(Permissions, EveryConsoleOpFoxgloveAndRtspAreListed) {
   EXPECT_TRUE(permissions::role_for("rtsp").has_value());
   std::set<std::string> ops(std::begin(web::kConsoleOps), std::end(web::kConsoleOps));
   for (const auto& p : permissions::all()) {
-    if (p.request.substr(0, 8) == "console:") EXPECT_TRUE(ops.count(std::string(p.request.substr(8)))) << p.request;
+    if (p.request.substr(0, 8) == "console:") {
+      EXPECT_TRUE(ops.count(std::string(p.request.substr(8)))) << p.request;
+    }
   }
 }
 

@@ -509,7 +509,9 @@ TEST_F(H264Stream, AViewResizedMidStreamStartsAgainAtAKeyFrameAtAnySize) {
   bool odd = false;
   for (size_t i = before_odd; i < odd_frames.size(); ++i) {
     if (odd_frames[i].width != 481) continue;
-    if (!odd) EXPECT_TRUE(odd_frames[i].key_frame) << "the first frame of the new size is a key frame";
+    if (!odd) {
+      EXPECT_TRUE(odd_frames[i].key_frame) << "the first frame of the new size is a key frame";
+    }
     odd = true;
     EXPECT_EQ(odd_frames[i].picture.cols, 482) << client.last_error();
   }
@@ -549,7 +551,9 @@ TEST_F(H264Stream, AJoystickMidStreamKeepsItDecodableAndNeverShowsAnOlderView) {
   uint64_t older = 0;
   for (size_t i = 0; i < frames.size(); ++i) {
     EXPECT_TRUE(frames[i].decoded) << frames[i].sequence;
-    if (i > 0) EXPECT_GE(frames[i].revision, frames[i - 1].revision) << frames[i].sequence;
+    if (i > 0) {
+      EXPECT_GE(frames[i].revision, frames[i - 1].revision) << frames[i].sequence;
+    }
     older += frames[i].revision < view.revision() ? 1 : 0;
   }
   EXPECT_LE(older, handed_over) << "a frame of an older view was handed over after UpdateView returned";
