@@ -4,7 +4,7 @@
 # looking at a synthetic room) and omniviewd with config/spot.yaml — the same config a real
 # Spot takes, with its address and credentials — then drives the daemon with the `omniview`
 # CLI the way an operator would: status, cameras, snapshots of the `front` and `birdseye`
-# views, a virtual pan-tilt-zoom camera, a short stream. Everything goes into out/demo/;
+# views, the bird's-eye on measured depth, a virtual pan-tilt-zoom camera, a short stream. Everything goes into out/demo/;
 # both processes keep running for you to watch until Ctrl-C.
 #
 #   bash scripts/demo.sh           # ... and keep serving on 127.0.0.1:50051
@@ -96,6 +96,14 @@ step "a virtual pan-tilt-zoom camera on the robot's body: create it, then point 
 "$omniview" snapshot ptz -o "$out/ptz_left_zoomed.jpg"
 "$omniview" ptz ptz --relative --pan 90
 "$omniview" snapshot ptz -o "$out/ptz_behind.jpg"
+
+step "the bird's-eye view on what the robot measures (depth: measured: its lidar and depth cameras)"
+"$omniview" views get birdseye > "$out/birdseye_measured.yaml"
+"$omniview" views create --file "$out/birdseye_measured.yaml" --set name=birdseye_measured --set depth=measured
+# Watched for two seconds: the geometry follows while someone watches; the last frame stands on it.
+"$omniview" stream birdseye_measured --frames 30 -o "$out/birdseye_measured_stream" > /dev/null
+cp "$(ls "$out"/birdseye_measured_stream/frame_*.jpg | tail -n 1)" "$out/birdseye_measured.jpg"
+echo "$out/birdseye.jpg: on the ground; $out/birdseye_measured.jpg: on the lidar and depth cameras"
 
 step "20 frames of the front view, with their latencies"
 "$omniview" stream front --frames 20 -o "$out/front_stream"
