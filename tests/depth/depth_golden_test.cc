@@ -112,11 +112,13 @@ TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
   // lidar's samples at silhouettes, seen from the cameras' places, blacken some visible
   // floor (without occlusion it beats the ground by 0.7 dB, but paints what no camera
   // sees). These bounds guard what works, below the figures by compiler-noise margins.
+  // (Rings joined in two passes and occlusion judged 3 px inside the measured surface, stop
+  // 32: (b) 27.1 -> 27.5 dB.)
   EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 10);
   EXPECT_GT(r.exact.psnr_db, r.exact_no_occlusion.psnr_db + 5);  // occlusion helps where the geometry is whole
   EXPECT_LE(r.exact.unseen_painted, 0.06);
   EXPECT_LT(r.lidar.unseen_painted, r.fixed.unseen_painted - 0.15);
-  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 6);
+  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 4.5);
   EXPECT_GT(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db);
 }
 
@@ -137,17 +139,18 @@ TEST(DepthGolden, FrontViewOnMeasuredDepth) {
   report("front", r);
   // Measured (release, this commit):
   //   (a) fixed plane, floor cut in 40.9 dB
-  //   (b) one VLP-16 rotation       28.8 dB (42.3 dB without occlusion)
+  //   (b) one VLP-16 rotation       30.1 dB (43.7 dB without occlusion; one pass of the
+  //                                 gap fill and occlusion to the surface's edge: 28.8, 42.3)
   //   (c) exact depth of the scene  48.2 dB, unseen painted 37 % (48.2 dB, 100 % without)
   // On this smooth texture the fixed plane with the floor is already close. Exact depth
-  // gains 7.3 dB (target >= 6: met); one rotation gains 1.4 dB without occlusion and loses
-  // 12 dB with it (target not met): the cameras judge its silhouette samples and the far
-  // samples it saw past objects' edges hidden, and black there costs much PSNR.
+  // gains 7.3 dB (target >= 6: met); one rotation gains 2.8 dB without occlusion and loses
+  // 11 dB with it (target not met): the cameras judge some pixels along objects' side
+  // edges hidden (dots of black), and black there costs much PSNR.
   EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 6);
   EXPECT_GE(r.exact.psnr_db, r.exact_no_occlusion.psnr_db - 0.5);  // no visible pixel blackened
   EXPECT_LE(r.exact.unseen_painted, 0.45);
-  EXPECT_GE(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db + 1);
-  EXPECT_GT(r.lidar.psnr_db, 26);
+  EXPECT_GE(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db + 2.3);
+  EXPECT_GT(r.lidar.psnr_db, 29);
 }
 
 }  // namespace
