@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <opencv2/imgproc.hpp>
 #include <optional>
@@ -10,6 +11,7 @@
 #include "cli/client/client_commands.h"
 #include "cli/client/command_support.h"
 #include "cli/client/connection.h"
+#include "cli/export_command.h"
 #include "core/cloud/cloud_file.h"
 #include "core/io/image_codec.h"
 #include "core/io/yaml_reader.h"
@@ -20,11 +22,19 @@ namespace omniview::cli {
 namespace {
 
 const std::string kRecordHelp = std::string(R"(usage: omniview record -o DIR [--source NAME] [--frames N | --duration S]
+       omniview record --format mcap -o FILE.mcap [--view VIEW.yaml ...] [--keep-recording] ...
 
 Records what a source of omniviewd delivers (every camera image with capture times and
 the rig) into DIR, a recording the 'replay' source plays back. Images are stored as the
 source received them (a robot's JPEG byte for byte); those it has only as pixels, as
 lossless PNG. Runs until N frame sets, S seconds, or Ctrl-C.
+
+With --format mcap it writes one MCAP file for Foxglove and Lichtblick instead: it records
+into FILE.mcap.recording/ as above and, when the recording ends, exports it as
+`omniview export` does (cameras, calibrations, clouds, the frame tree, joints, and each view
+rendered again as H.264), then removes that folder (--keep-recording keeps it). The views
+are the daemon's views of the source as they were when recording began, or the --view
+files'. Should the export fail, the recording stays and the message says where.
 
 omniviewd queues frame sets for a recording that falls behind (a slow disk) up to its
 limits.record_queue_frame_sets; beyond that it skips some, and this command says how many.
@@ -33,6 +43,9 @@ limits.record_queue_frame_sets; beyond that it skips some, and this command says
   --source NAME      the source (default: the daemon's first)
   --frames N         stop after N frame sets
   --duration S       stop after S seconds
+  --format F         dir (the default: a recording folder) or mcap
+  --view FILE        mcap: a view YAML to render (repeatable; default: the daemon's views)
+  --keep-recording   mcap: keep FILE.mcap.recording/ after the export
 
 )") + connection_help();
 
@@ -66,6 +79,25 @@ RecordedImage to_recorded(const v1::CameraImage& image) {
   return recorded;
 }
 
+// The daemon's views of `source` (all of them when none names it), each as a view file in
+// `folder`, for the export.
+std::vector<std::string> save_daemon_views(Connection& connection, const std::string& source,
+                                           const std::filesystem::path& folder) {
+  v1::ListViewsResponse listed;
+  grpc::ClientContext context;
+  connection.prepare(context, true);
+  connection.check(connection.stub().ListViews(&context, v1::ListViewsRequest(), &listed), "views");
+  std::vector<std::string> files;
+  std::filesystem::create_directories(folder);
+  for (const auto& v : listed.views()) {
+    if (v.spec().source() != source) continue;
+    const auto file = folder / ("view_" + std::to_string(files.size()) + ".yaml");
+    std::ofstream(file) << v.yaml();
+    files.push_back(file.string());
+  }
+  return files;
+}
+
 std::chrono::system_clock::time_point to_time_point(const google::protobuf::Timestamp& t) {
   return std::chrono::system_clock::time_point(std::chrono::duration_cast<std::chrono::system_clock::duration>(
       std::chrono::seconds(t.seconds()) + std::chrono::nanoseconds(t.nanos())));
@@ -74,10 +106,22 @@ std::chrono::system_clock::time_point to_time_point(const google::protobuf::Time
 }  // namespace
 
 int record_command(const std::vector<std::string>& argv) {
-  const auto args = parse_command_args(argv, {}, {"output", "source", "frames", "duration"}, kRecordHelp);
+  const auto args = parse_command_args(argv, {"keep-recording"}, {"output", "source", "frames", "duration", "format", "view"},
+                                      kRecordHelp);
   if (!args) return 0;
   expect_positional(*args, 0, "");
-  const std::filesystem::path folder = args->required("output");
+  const std::string format = args->get("format", "dir");
+  if (format != "dir" && format != "mcap") throw UsageError("--format must be 'dir' or 'mcap', not '" + format + "'");
+  const bool mcap = format == "mcap";
+  if (!mcap && (args->has("view") || args->has("keep-recording"))) {
+    throw UsageError(std::string(args->has("view") ? "--view" : "--keep-recording") + " is for --format mcap");
+  }
+  const std::filesystem::path mcap_file = mcap ? std::filesystem::path(args->required("output")) : std::filesystem::path();
+  if (mcap && std::filesystem::exists(mcap_file)) {
+    throw UsageError("--output '" + mcap_file.string() + "' exists; remove it or give another name");
+  }
+  const std::filesystem::path folder = mcap ? std::filesystem::path(mcap_file.string() + ".recording")
+                                            : std::filesystem::path(args->required("output"));
   if (args->has("frames") && args->has("duration")) throw UsageError("give --frames or --duration, not both");
   const int wanted = args->has("frames") ? parse_count(args->get("frames"), "--frames") : 0;
   const double duration_s = args->has("duration") ? parse_positive(args->get("duration"), "--duration") : 0;
@@ -88,6 +132,13 @@ int record_command(const std::vector<std::string>& argv) {
 
   Connection connection(connection_options(*args));
   const std::string source = args->has("source") ? args->get("source") : first_source(connection);
+  // The views to render, as they are now (before the recording: a view changed while it
+  // runs is rendered as it was when it began).
+  std::vector<std::string> view_files;
+  if (mcap) {
+    view_files = args->has("view") ? args->all("view")
+                                   : save_daemon_views(connection, source, std::filesystem::path(mcap_file.string() + ".views"));
+  }
   v1::StreamSourceFramesRequest request;
   request.set_source(source);
   grpc::ClientContext context;
@@ -139,7 +190,19 @@ int record_command(const std::vector<std::string>& argv) {
                  "the gaps show in frames.csv's sequence numbers. A faster disk, or a lower source rate, avoids "
                  "them.\n";
   }
-  return written > 0 ? 0 : 1;
+  if (!mcap || written == 0) return written > 0 ? 0 : 1;
+
+  std::vector<std::string> export_args = {folder.string(), "-o", mcap_file.string()};
+  for (const auto& f : view_files) export_args.insert(export_args.end(), {"--view", f});
+  try {
+    export_command(export_args);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(std::string(e.what()) + " (the recording is kept in " + folder.string() +
+                             "/: omniview export can write it again)");
+  }
+  if (!args->has("view")) std::filesystem::remove_all(mcap_file.string() + ".views");
+  if (!args->has("keep-recording")) std::filesystem::remove_all(folder);
+  return 0;
 }
 
 }  // namespace omniview::cli

@@ -357,5 +357,38 @@ TEST_F(Export, BadRecordingsFailNamingTheFile) {
   EXPECT_EQ(odd.exit_code, 0) << odd.output;
 }
 
+// `omniview record --format mcap` straight from a daemon: the daemon's views of the source
+// rendered into the file, the intermediate recording gone unless asked to keep it.
+TEST(RecordMcap, ADaemonsSourceAndViewsBecomeOneMcapFile) {
+  TempDir dir;
+  DaemonProcess daemon(dir, example_config(10, "views:\n"
+                                               "  - {name: ahead, type: perspective, width: 160, height: 96, hfov_deg: 90}\n"
+                                               "  - {name: around, type: cylindrical, width: 256, height: 64}\n"));
+  const std::string file = (dir.path() / "run.mcap").string();
+  const std::string cli = std::string(OMNIVIEW_CLI) + " record --format mcap --frames 6 --server " + daemon.address();
+  const auto run = run_process(cli + " -o " + file);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_FALSE(fs::exists(file + ".recording")) << "the intermediate recording was left behind";
+  EXPECT_FALSE(fs::exists(file + ".views"));
+  const auto m = mcap::read_mcap_file(file);
+  const auto counts = counts_by_topic(m);
+  for (const char* topic : {"/views/ahead", "/views/around", "/cameras/front/image", "/cameras/back/image", "/tf"}) {
+    EXPECT_TRUE(counts.count(topic)) << topic << " missing; topics: " << run.output;
+  }
+  EXPECT_GE(counts.count("/views/ahead") ? counts.at("/views/ahead") : 0, 5u);
+  EXPECT_EQ(schema_of(m, "/views/ahead"), "foxglove.CompressedVideo");
+
+  // Kept on request; an existing file is refused before anything is recorded.
+  const std::string kept = (dir.path() / "kept.mcap").string();
+  ASSERT_EQ(run_process(cli + " --keep-recording -o " + kept).exit_code, 0);
+  EXPECT_TRUE(fs::is_directory(kept + ".recording"));
+  EXPECT_TRUE(fs::exists(kept));
+  const auto again = run_process(cli + " -o " + file);
+  EXPECT_NE(again.exit_code, 0);
+  EXPECT_NE(again.output.find("exists"), std::string::npos) << again.output;
+  const auto bad = run_process(std::string(OMNIVIEW_CLI) + " record --format avi -o x --server " + daemon.address());
+  EXPECT_NE(bad.output.find("--format must be 'dir' or 'mcap'"), std::string::npos) << bad.output;
+}
+
 }  // namespace
 }  // namespace omniview::testing
