@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <grpcpp/grpcpp.h>
@@ -32,6 +33,22 @@ class TempDir {
 // product ("views resume within 2 s") are multiplied by it, so a sanitizer run still checks
 // the code path without failing on the sanitizer's own slowdown.
 double test_time_scale();
+
+// `t` times test_time_scale().
+inline std::chrono::milliseconds time_scaled(std::chrono::milliseconds t) {
+  return std::chrono::milliseconds(static_cast<int64_t>(t.count() * test_time_scale()));
+}
+
+// Polls `done` every 50 ms until it holds or time_scaled(`timeout`) has passed; its last answer.
+template <typename F>
+bool eventually_within(F&& done, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + time_scaled(timeout);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return done();
+}
 
 // A TCP port on 127.0.0.1 that was free a moment ago (for a second server a test starts on
 // a port it must know beforehand; another process may still take it in between).

@@ -24,20 +24,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
-std::chrono::milliseconds scaled(std::chrono::milliseconds t) {
-  return std::chrono::milliseconds(static_cast<int64_t>(t.count() * test_time_scale()));
-}
-
-template <typename F>
-bool eventually(F&& done, std::chrono::milliseconds timeout) {
-  const auto deadline = Clock::now() + scaled(timeout);
-  while (Clock::now() < deadline) {
-    if (done()) return true;
-    std::this_thread::sleep_for(50ms);
-  }
-  return done();
-}
-
 // A point as the test reads it back.
 struct Point {
   Vec3 p;
@@ -92,18 +78,6 @@ std::vector<Point> decode(const v1::PointCloud& c) {
   return out;
 }
 
-// `spot-mock control --counters`: get_point_cloud_calls.
-double cloud_calls(const SpotMockProcess& mock) {
-  const auto r = mock.control("--counters");
-  EXPECT_EQ(r.exit_code, 0) << r.text;
-  std::istringstream lines(r.text);
-  for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("get_point_cloud_calls=", 0) == 0) return std::stod(line.substr(line.find('=') + 1));
-  }
-  ADD_FAILURE() << "no get_point_cloud_calls in:\n" << r.text;
-  return -1;
-}
-
 const char* kTokens = "tokens:\n"
                       "  - {role: viewer, token: viewer-secret-123}\n"
                       "  - {role: operator, token: operator-secret-456}\n";
@@ -134,7 +108,7 @@ class CloudApi : public ::testing::Test {
            << extra_config();
     daemon_ = std::make_unique<DaemonProcess>(dir_, config.str());
     stub_ = make_stub(daemon_->address());
-    ASSERT_TRUE(eventually([&] { return connected(); }, 15s)) << daemon_->log();
+    ASSERT_TRUE(eventually_within([&] { return connected(); }, 15s)) << daemon_->log();
   }
 
   // More of the daemon's config (YAML at the top level).
@@ -150,7 +124,7 @@ class CloudApi : public ::testing::Test {
   }
 
   grpc::Status get_cloud(const v1::GetCloudRequest& r, v1::PointCloud& out, const std::string& token = kViewer) {
-    return stub_->GetCloud(make_context(token, scaled(20s)).get(), r, &out);
+    return stub_->GetCloud(make_context(token, time_scaled(20s)).get(), r, &out);
   }
 
   static v1::GetCloudRequest request(const std::string& frame) {
@@ -188,7 +162,7 @@ bool mock_camera_sees(const synthetic::Scene& scene, const Rig& rig, const Vec3&
 
 TEST_F(CloudApi, CloudIsInTheRequestedFrameAndColouredLikeTheMocksScene) {
   std::this_thread::sleep_for(300ms);
-  EXPECT_EQ(cloud_calls(*mock_), 0) << "a cloud was pulled with nobody watching";
+  EXPECT_EQ(mock_->counter("get_point_cloud_calls"), 0) << "a cloud was pulled with nobody watching";
 
   v1::PointCloud cloud;
   const grpc::Status s = get_cloud(request(spot_mock::kWorldFrame), cloud);
@@ -393,9 +367,9 @@ TEST_F(CloudApi, AStalledClientSlowsNobodyAndCloudsStopWithTheLastWatcher) {
   double alone_rate = 0;
   {
     CloudReader reader(*stub_, 0, false);
-    ASSERT_TRUE(eventually([&] { return reader.clouds() >= 3; }, 15s)) << daemon_->log();
+    ASSERT_TRUE(eventually_within([&] { return reader.clouds() >= 3; }, 15s)) << daemon_->log();
     const size_t before = reader.clouds();
-    std::this_thread::sleep_for(scaled(3s));
+    std::this_thread::sleep_for(time_scaled(3s));
     alone_rate = (reader.clouds() - before) / (3 * test_time_scale());
   }
   std::cout << "clouds per second, one reader: " << alone_rate << "\n";
@@ -406,7 +380,7 @@ TEST_F(CloudApi, AStalledClientSlowsNobodyAndCloudsStopWithTheLastWatcher) {
     std::vector<std::unique_ptr<CloudReader>> stalled;
     for (int i = 0; i < 6; ++i) stalled.push_back(std::make_unique<CloudReader>(*stub_, 0, true));
     CloudReader reader(*stub_, 0, false);
-    ASSERT_TRUE(eventually([&] { return reader.clouds() >= 3; }, 15s)) << daemon_->log();
+    ASSERT_TRUE(eventually_within([&] { return reader.clouds() >= 3; }, 15s)) << daemon_->log();
     // The stalled streams' buffers fill up; from then on their clouds are dropped, not queued.
     const auto cloud_clients = [&](uint64_t* dropped) {
       v1::Status st;
@@ -422,16 +396,16 @@ TEST_F(CloudApi, AStalledClientSlowsNobodyAndCloudsStopWithTheLastWatcher) {
     };
     uint64_t dropped = 0;
     EXPECT_EQ(cloud_clients(&dropped), 7);
-    EXPECT_TRUE(eventually([&] { return cloud_clients(&dropped) == 7 && dropped > 0; }, 30s))
+    EXPECT_TRUE(eventually_within([&] { return cloud_clients(&dropped) == 7 && dropped > 0; }, 30s))
         << "the stalled streams' clouds are dropped, not queued";
     const size_t before = reader.clouds();
-    std::this_thread::sleep_for(scaled(3s));
+    std::this_thread::sleep_for(time_scaled(3s));
     const double rate = (reader.clouds() - before) / (3 * test_time_scale());
     std::cout << "clouds per second beside 6 stalled streams: " << rate << " (" << dropped << " dropped for them)\n";
     EXPECT_GT(rate, 0.6 * alone_rate);
   }
   // Nobody watches any more: no more GetPointCloud calls (one still in flight may land).
-  ASSERT_TRUE(eventually(
+  ASSERT_TRUE(eventually_within(
       [&] {
         v1::Status st;
         if (!stub_->GetStatus(make_context(kViewer).get(), v1::GetStatusRequest(), &st).ok()) return false;
@@ -439,10 +413,10 @@ TEST_F(CloudApi, AStalledClientSlowsNobodyAndCloudsStopWithTheLastWatcher) {
                             [](const auto& c) { return c.view() == "cloud:spot"; });
       },
       10s));
-  std::this_thread::sleep_for(scaled(500ms));
-  const double calls = cloud_calls(*mock_);
-  std::this_thread::sleep_for(scaled(1500ms));
-  EXPECT_LE(cloud_calls(*mock_), calls + 1) << "clouds pulled with nobody watching";
+  std::this_thread::sleep_for(time_scaled(500ms));
+  const double calls = mock_->counter("get_point_cloud_calls");
+  std::this_thread::sleep_for(time_scaled(1500ms));
+  EXPECT_LE(mock_->counter("get_point_cloud_calls"), calls + 1) << "clouds pulled with nobody watching";
 }
 
 TEST_F(CloudApi, AfterNobodyWatchedTheNextCloudIsNewNotTheLastWatchersLeftover) {
@@ -462,7 +436,7 @@ TEST_F(CloudApi, AfterNobodyWatchedTheNextCloudIsNewNotTheLastWatchersLeftover) 
 
 TEST_F(CloudApi, StreamHonoursItsRate) {
   CloudReader reader(*stub_, 2, false);
-  ASSERT_TRUE(eventually([&] { return reader.clouds() >= 1; }, 15s)) << daemon_->log();
+  ASSERT_TRUE(eventually_within([&] { return reader.clouds() >= 1; }, 15s)) << daemon_->log();
   const size_t before = reader.clouds();
   std::this_thread::sleep_for(3s);
   const size_t got = reader.clouds() - before;

@@ -31,31 +31,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using namespace std::chrono_literals;
 
-std::chrono::milliseconds scaled(std::chrono::milliseconds t) {
-  return std::chrono::milliseconds(static_cast<int64_t>(t.count() * test_time_scale()));
-}
-
-template <typename F>
-bool eventually(F&& done, std::chrono::milliseconds timeout) {
-  const auto deadline = Clock::now() + scaled(timeout);
-  while (Clock::now() < deadline) {
-    if (done()) return true;
-    std::this_thread::sleep_for(50ms);
-  }
-  return done();
-}
-
-// spot-mock's counter of GetPointCloud calls.
-double cloud_calls(const SpotMockProcess& mock) {
-  const auto r = mock.control("--counters");
-  std::istringstream lines(r.text);
-  for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("get_point_cloud_calls=", 0) == 0) return std::stod(line.substr(line.find('=') + 1));
-  }
-  ADD_FAILURE() << "no get_point_cloud_calls in:\n" << r.text;
-  return -1;
-}
-
 // A view looking ahead and down from the body: the floor from 1 m and the wall at 3 m,
 // seen by both front cameras (their seam runs down the middle). As a user would set it up:
 // the surface ends at the floor (`ground`), so what neither surface nor lidar covers (the
@@ -193,7 +168,7 @@ class DepthViews : public ::testing::Test {
            << source_config();
     daemon_ = std::make_unique<DaemonProcess>(dir_, config.str());
     stub_ = make_stub(daemon_->address());
-    ASSERT_TRUE(eventually([&] { return status().sources_size() > 0 && status().sources(0).connected(); }, 20s))
+    ASSERT_TRUE(eventually_within([&] { return status().sources_size() > 0 && status().sources(0).connected(); }, 20s))
         << daemon_->log();
     for (const auto depth : {v1::FIXED, v1::MEASURED}) {
       v1::CreateViewRequest r;
@@ -241,8 +216,8 @@ TEST_F(DepthViews, AMeasuredViewStandsOnTheLidarsSceneWhereTheFixedOneGuesses) {
   // Only a fixed view watched: nobody needs the lidar.
   {
     LatestFrame fixed(*stub_, "fixed");
-    ASSERT_TRUE(eventually([&] { return fixed.count() >= 3; }, 20s)) << daemon_->log();
-    EXPECT_EQ(cloud_calls(*mock_), 0) << "clouds pulled with no depth view watched";
+    ASSERT_TRUE(eventually_within([&] { return fixed.count() >= 3; }, 20s)) << daemon_->log();
+    EXPECT_EQ(mock_->counter("get_point_cloud_calls"), 0) << "clouds pulled with no depth view watched";
     EXPECT_EQ(fixed.get().measured_depth(), 0);
   }
   const v1::ViewStatus unwatched = view_status("measured");
@@ -251,10 +226,10 @@ TEST_F(DepthViews, AMeasuredViewStandsOnTheLidarsSceneWhereTheFixedOneGuesses) {
 
   LatestFrame fixed(*stub_, "fixed");
   LatestFrame measured(*stub_, "measured");
-  ASSERT_TRUE(eventually([&] { return measured.get().measured_depth() > 0.2 && fixed.count() > 0; }, 30s))
+  ASSERT_TRUE(eventually_within([&] { return measured.get().measured_depth() > 0.2 && fixed.count() > 0; }, 30s))
       << "measured_depth " << measured.get().measured_depth() << "\n" << view_status("measured").DebugString()
       << daemon_->log();
-  EXPECT_GT(cloud_calls(*mock_), 0);
+  EXPECT_GT(mock_->counter("get_point_cloud_calls"), 0);
 
   const v1::ViewStatus st = view_status("measured");
   std::cout << "depth view: " << st.DebugString();
@@ -322,10 +297,10 @@ class DepthImagesOnly : public DepthViews {
 TEST_F(DepthImagesOnly, AMeasuredViewStandsOnTheDepthCamerasAlone) {
   LatestFrame fixed(*stub_, "fixed");
   LatestFrame measured(*stub_, "measured");
-  ASSERT_TRUE(eventually([&] { return measured.get().measured_depth() > 0.5 && fixed.count() > 0; }, 30s))
+  ASSERT_TRUE(eventually_within([&] { return measured.get().measured_depth() > 0.5 && fixed.count() > 0; }, 30s))
       << "measured_depth " << measured.get().measured_depth() << "\n" << view_status("measured").DebugString()
       << daemon_->log();
-  EXPECT_EQ(cloud_calls(*mock_), 0) << "a lidar cloud was asked for with point_cloud_source: none";
+  EXPECT_EQ(mock_->counter("get_point_cloud_calls"), 0) << "a lidar cloud was asked for with point_cloud_source: none";
   EXPECT_EQ(view_status("measured").depth_message(), "");
   const v1::Frame f_fixed = fixed.get(), f_measured = measured.get();
   const Truth truth = ray_cast(f_measured.camera());
@@ -337,14 +312,14 @@ TEST_F(DepthImagesOnly, AMeasuredViewStandsOnTheDepthCamerasAlone) {
 
 TEST_F(DepthViews, AViewChangedKeepsStandingOnMeasuredDepth) {
   LatestFrame measured(*stub_, "measured");
-  ASSERT_TRUE(eventually([&] { return measured.get().measured_depth() > 0.2; }, 30s)) << daemon_->log();
+  ASSERT_TRUE(eventually_within([&] { return measured.get().measured_depth() > 0.2; }, 30s)) << daemon_->log();
   // A pan (a joystick step): the new revision's first frame already stands on the geometry.
   v1::UpdateViewRequest r;
   r.set_name("measured");
   r.mutable_delta()->set_yaw_deg(10);
   v1::View updated;
   ASSERT_TRUE(stub_->UpdateView(make_context().get(), r, &updated).ok());
-  ASSERT_TRUE(eventually([&] { return measured.get().camera().revision() == updated.revision(); }, 10s));
+  ASSERT_TRUE(eventually_within([&] { return measured.get().camera().revision() == updated.revision(); }, 10s));
   EXPECT_GT(measured.get().measured_depth(), 0.2);
   // And back to fixed: no measured depth, no geometry.
   v1::UpdateViewRequest fixed;
@@ -352,7 +327,7 @@ TEST_F(DepthViews, AViewChangedKeepsStandingOnMeasuredDepth) {
   fixed.mutable_set()->set_depth(v1::FIXED);
   ASSERT_TRUE(stub_->UpdateView(make_context().get(), fixed, &updated).ok());
   EXPECT_EQ(updated.spec().depth(), v1::FIXED);
-  ASSERT_TRUE(eventually([&] { return measured.get().camera().revision() == updated.revision(); }, 10s));
+  ASSERT_TRUE(eventually_within([&] { return measured.get().camera().revision() == updated.revision(); }, 10s));
   EXPECT_EQ(measured.get().measured_depth(), 0);
   EXPECT_EQ(view_status("measured").depth_message(), "");
 }

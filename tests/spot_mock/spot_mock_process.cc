@@ -80,6 +80,17 @@ SpotMockProcess::Output SpotMockProcess::control(const std::string& args) const 
   return {r.exit_code, r.output};
 }
 
+double SpotMockProcess::counter(const std::string& name) const {
+  const Output r = control("--counters");
+  EXPECT_EQ(r.exit_code, 0) << r.text;
+  std::istringstream lines(r.text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind(name + "=", 0) == 0) return std::stod(line.substr(name.size() + 1));
+  }
+  ADD_FAILURE() << "no " << name << " in:\n" << r.text;
+  return -1;
+}
+
 std::unique_ptr<grpc::ClientContext> spot_context(const std::string& token, std::chrono::milliseconds deadline) {
   auto ctx = std::make_unique<grpc::ClientContext>();
   ctx->set_deadline(std::chrono::system_clock::now() + deadline);

@@ -47,6 +47,9 @@ class SpotMockProcess : public ServedProcess {
     std::string text;
   };
   Output control(const std::string& args) const;
+  // One of `control --counters`' counters (e.g. "get_point_cloud_calls"); fails the test
+  // and returns -1 when there is no such counter.
+  double counter(const std::string& name) const;
 
  private:
   SpotMockProcess(const std::filesystem::path& dir, std::vector<std::string> extra_args, int port,
