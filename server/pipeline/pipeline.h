@@ -45,6 +45,12 @@ namespace omniview {
 
 struct Staleness;
 
+// Geometry a depth view stands on at most this old (its latest cloud's arrival): a changed
+// view or one watched again takes the source's geometry only if it is this recent, and
+// one whose geometry grew older (nobody watched, the lidar stopped) returns to its fixed
+// surface until new geometry comes.
+inline constexpr std::chrono::seconds kFreshGeometry{2};
+
 struct PipelineLimits {
   int64_t max_view_pixels = 4096LL * 4096;
   int max_views = 32;
@@ -117,6 +123,9 @@ class Pipeline {
   void deliver_geometry(SourceChannel& channel, const FrameSet& frames);
   bool depth_watched(const std::string& source) const;
   void update_depth(const std::string& view);
+  // A depth view whose geometry is older than kFreshGeometry: back to its fixed surface.
+  // Call with the view's change mutex held.
+  void drop_stale_geometry(LiveView& view);
   // `state`'s view and map on `geometry` (state's rig, spec and pose set); throws
   // std::invalid_argument when the geometry's frame is not the rig's.
   void apply_measured_depth(ViewState& state, const GeometrySnapshot& geometry) const;

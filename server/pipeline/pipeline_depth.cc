@@ -3,6 +3,7 @@
 // depth views' maps on it, swapping each in like any other map: frames keep flowing with
 // the previous one meanwhile.
 #include <chrono>
+#include <iostream>
 
 #include "core/depth/camera_occluders.h"
 #include "server/pipeline/pipeline.h"
@@ -27,15 +28,24 @@ bool Pipeline::depth_watched(const std::string& source) const {
 }
 
 void Pipeline::deliver_geometry(SourceChannel& ch, const FrameSet& frames) {
-  if (!frames.cloud && frames.depth.empty()) return;
   const std::string& name = ch.source().name();
-  std::vector<std::string> watched;
+  std::vector<std::string> watched, stale;
   {
     std::lock_guard lock(views_mutex_);
     for (const auto& [view, v] : views_) {
       const auto state = v->state();
-      if (state->depth && state->spec.source == name && v->subscriber_count() > 0) watched.push_back(view);
+      if (!state->depth || state->spec.source != name || v->subscriber_count() == 0) continue;
+      watched.push_back(view);
+      if (state->depth->geometry_version != 0 &&
+          DepthClock::now() - state->depth->geometry_arrival >= kFreshGeometry) {
+        stale.push_back(view);
+      }
     }
+  }
+  if (!frames.cloud && frames.depth.empty()) {
+    // The lidar went quiet while watched: such a view returns to its fixed surface.
+    for (const auto& view : stale) depth_updates_->request(view);
+    return;
   }
   if (watched.empty()) return;
   const auto rig = frames.rig ? frames.rig : this->rig(name);
@@ -58,12 +68,32 @@ void Pipeline::update_depth(const std::string& name) {
   std::lock_guard change(view->change_mutex());
   const auto old = view->state();
   if (!old->depth) return;  // made fixed meanwhile
+  const auto now = DepthClock::now();
   const auto snapshot = geometry(old->spec.source).latest();
-  if (!snapshot || snapshot->version == old->depth->geometry_version) return;
-  auto state = std::make_shared<ViewState>(*old);
-  apply_measured_depth(*state, *snapshot);
-  view->set_state(state);
-  view->record_depth_update();
+  if (snapshot && now - snapshot->arrival < kFreshGeometry) {
+    if (snapshot->version == old->depth->geometry_version) return;
+    auto state = std::make_shared<ViewState>(*old);
+    apply_measured_depth(*state, *snapshot);
+    view->set_state(state);
+    view->record_depth_update();
+  } else {
+    drop_stale_geometry(*view);
+  }
+}
+
+void Pipeline::drop_stale_geometry(LiveView& view) {
+  const auto old = view.state();
+  if (!old->depth || old->depth->geometry_version == 0) return;
+  if (DepthClock::now() - old->depth->geometry_arrival < kFreshGeometry) return;
+  // Geometry from the last time someone watched (or before the lidar went quiet): the
+  // fixed surface until new geometry comes, never a world that may have moved since.
+  try {
+    view.set_state(build_state(old->spec, old->revision));
+  } catch (const std::exception& e) {
+    // The view no longer fits its source's rig (a rig change in flight): the rebuild for
+    // that comes; the old map stays until then.
+    std::cerr << "omniviewd: view '" << old->spec.name << "': old geometry not dropped: " << e.what() << "\n";
+  }
 }
 
 void Pipeline::apply_measured_depth(ViewState& state, const GeometrySnapshot& geometry) const {
@@ -106,9 +136,10 @@ void Pipeline::describe_depth(const ViewState& state, size_t subscribers, v1::Vi
               ") delivers no lidar clouds: the view stands on its fixed surface";
   } else if (!g.message().empty()) {
     message = g.message();
+  } else if (subscribers == 0) {
+    message = "not watched: the surface follows the lidar only while someone watches the view";
   } else if (!any) {
-    message = subscribers == 0 ? "not watched: the surface follows the lidar only while someone watches the view"
-                               : "waiting for the source's first lidar cloud or depth image";
+    message = "waiting for the source's first lidar cloud or depth image";
   }
   status.set_depth_message(message);
 }

@@ -36,8 +36,15 @@ std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const s
   // its state in place already. Either way no frame of an older revision reaches it.
   s->set_min_revision(view->state()->revision);
   update_wanted_cameras(view->state()->spec.source);
-  // A depth view watched again stands on the source's newest geometry at once, if any.
-  if (view->state()->depth && depth_updates_) depth_updates_->request(name);
+  // A depth view watched again: never its old geometry (its first frame stands on its
+  // fixed surface), and the source's newest geometry as soon as there is some.
+  if (view->state()->depth) {
+    {
+      std::lock_guard change(view->change_mutex());
+      drop_stale_geometry(*view);
+    }
+    if (depth_updates_) depth_updates_->request(name);
+  }
   return s;
 }
 

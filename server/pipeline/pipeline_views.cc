@@ -18,9 +18,10 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-// A changed depth view (a joystick step) stands on the source's geometry at once if that is
-// this recent; older geometry (nobody watched for a while) waits for the next cloud.
-constexpr auto kFreshGeometry = std::chrono::seconds(2);
+// A depth view's update costs time and memory in proportion to its pixels (a 4096x4096 one
+// took 8 s and 1.2 GB per update and slowed every other view): depth views stop at about
+// 1920x1080.
+constexpr int64_t kMaxDepthViewPixels = 2048LL * 1024;
 
 }  // namespace
 
@@ -84,6 +85,12 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
   state->T_robot_view = T_robot_view;
   state->description = std::move(d);
   if (spec.depth == Depth::kMeasured) {
+    if (static_cast<int64_t>(spec.width) * spec.height > kMaxDepthViewPixels) {
+      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
+                     what + ": depth: measured takes views of at most " + std::to_string(kMaxDepthViewPixels) +
+                         " pixels (1920x1080 fits); this one has " + std::to_string(spec.width) + "x" +
+                         std::to_string(spec.height));
+    }
     auto depth = std::make_shared<ViewDepth>();
     try {
       depth->surface = std::make_shared<const DepthSurface>(spec);

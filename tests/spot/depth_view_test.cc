@@ -310,6 +310,24 @@ TEST_F(DepthImagesOnly, AMeasuredViewStandsOnTheDepthCamerasAlone) {
   EXPECT_GT(db_measured, db_fixed + 6);
 }
 
+// Watched again after a while, a depth view never stands on the geometry of the last time
+// (the world may have moved since): its fixed surface until new geometry comes.
+TEST_F(DepthViews, AViewWatchedAgainDropsItsOldGeometry) {
+  {
+    LatestFrame measured(*stub_, "measured");
+    ASSERT_TRUE(eventually_within([&] { return measured.get().measured_depth() > 0.2; }, 30s)) << daemon_->log();
+  }
+  std::this_thread::sleep_for(4s);
+  const v1::ViewStatus unwatched = view_status("measured");
+  EXPECT_GE(unwatched.depth_geometry_age_s(), 4);
+  EXPECT_NE(unwatched.depth_message().find("not watched"), std::string::npos) << unwatched.depth_message();
+  LatestFrame again(*stub_, "measured");
+  ASSERT_TRUE(eventually_within([&] { return again.count() > 0; }, 20s));
+  const v1::ViewStatus watched = view_status("measured");
+  EXPECT_LT(watched.depth_geometry_age_s(), 3.5) << "the geometry of the last time someone watched";
+  ASSERT_TRUE(eventually_within([&] { return again.get().measured_depth() > 0.2; }, 30s));
+}
+
 TEST_F(DepthViews, AViewChangedKeepsStandingOnMeasuredDepth) {
   LatestFrame measured(*stub_, "measured");
   ASSERT_TRUE(eventually_within([&] { return measured.get().measured_depth() > 0.2; }, 30s)) << daemon_->log();
@@ -330,6 +348,19 @@ TEST_F(DepthViews, AViewChangedKeepsStandingOnMeasuredDepth) {
   ASSERT_TRUE(eventually_within([&] { return measured.get().camera().revision() == updated.revision(); }, 10s));
   EXPECT_EQ(measured.get().measured_depth(), 0);
   EXPECT_EQ(view_status("measured").depth_message(), "");
+}
+
+TEST_F(DepthViews, ViewsTooLargeForDepthAreRefusedNamingTheLimit) {
+  v1::CreateViewRequest r;
+  *r.mutable_spec() = front_view("huge", v1::MEASURED);
+  r.mutable_spec()->set_width(4096);
+  r.mutable_spec()->set_height(2048);
+  v1::View created;
+  const grpc::Status s = stub_->CreateView(make_context().get(), r, &created);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("depth: measured takes views of at most"), std::string::npos) << s.error_message();
+  r.mutable_spec()->set_depth(v1::FIXED);
+  EXPECT_TRUE(stub_->CreateView(make_context().get(), r, &created).ok());
 }
 
 }  // namespace
