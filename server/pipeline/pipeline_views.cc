@@ -34,6 +34,13 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
                        " pixels is more than this daemon allows (limits.max_view_pixels = " +
                        std::to_string(limits_.max_view_pixels) + ")");
   }
+  // Before any map is built: refused at once.
+  if (spec.depth == Depth::kMeasured && static_cast<int64_t>(spec.width) * spec.height > kMaxDepthViewPixels) {
+    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
+                   what + ": depth: measured takes views of at most " + std::to_string(kMaxDepthViewPixels) +
+                       " pixels (1920x1080 fits); this one has " + std::to_string(spec.width) + "x" +
+                       std::to_string(spec.height));
+  }
   try {
     validate(spec);  // the one check of every field, before anything uses one (CreateView, UpdateView, config)
   } catch (const std::invalid_argument& e) {
@@ -85,12 +92,6 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
   state->T_robot_view = T_robot_view;
   state->description = std::move(d);
   if (spec.depth == Depth::kMeasured) {
-    if (static_cast<int64_t>(spec.width) * spec.height > kMaxDepthViewPixels) {
-      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
-                     what + ": depth: measured takes views of at most " + std::to_string(kMaxDepthViewPixels) +
-                         " pixels (1920x1080 fits); this one has " + std::to_string(spec.width) + "x" +
-                         std::to_string(spec.height));
-    }
     auto depth = std::make_shared<ViewDepth>();
     try {
       depth->surface = std::make_shared<const DepthSurface>(spec);

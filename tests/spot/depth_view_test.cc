@@ -353,14 +353,15 @@ TEST_F(DepthViews, AViewChangedKeepsStandingOnMeasuredDepth) {
 TEST_F(DepthViews, ViewsTooLargeForDepthAreRefusedNamingTheLimit) {
   v1::CreateViewRequest r;
   *r.mutable_spec() = front_view("huge", v1::MEASURED);
-  r.mutable_spec()->set_width(4096);
-  r.mutable_spec()->set_height(2048);
+  r.mutable_spec()->set_width(2100);  // just over 2048x1024
+  r.mutable_spec()->set_height(1000);
   v1::View created;
   const grpc::Status s = stub_->CreateView(make_context().get(), r, &created);
   EXPECT_EQ(s.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_NE(s.error_message().find("depth: measured takes views of at most"), std::string::npos) << s.error_message();
   r.mutable_spec()->set_depth(v1::FIXED);
-  EXPECT_TRUE(stub_->CreateView(make_context().get(), r, &created).ok());
+  // The same size with a fixed surface is fine (its map build takes seconds under a sanitizer).
+  EXPECT_TRUE(stub_->CreateView(make_context("", time_scaled(std::chrono::seconds(20))).get(), r, &created).ok());
 }
 
 }  // namespace
