@@ -16,6 +16,7 @@
 #include <mutex>
 #include <opencv2/core/mat.hpp>
 #include <utility>
+#include <vector>
 
 #include "server/pipeline/subscriber.h"
 #include "server/video/h264_encoder.h"
@@ -85,6 +86,7 @@ class VideoStream {
   Clock::time_point last_arrival_{};
   int intervals_ = 0;
   double mean_interval_s_ = 0;
+  std::vector<double> first_intervals_;  // the first few, whose median a new stream declares
   cv::Mat grey_;
   mutable std::mutex key_frame_mutex_;
   SharedFrame last_key_frame_;
