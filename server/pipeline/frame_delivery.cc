@@ -48,7 +48,8 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
       // just watched again has not (the stream then measures its own).
       const ViewStats stats = view.stats();
       auto au = video->encode(rendered.image, rendered.arrival,
-                              stats.run_frames > VideoStream::kRateIntervals ? stats.fps : 0, state.revision);
+                              stats.run_frames > VideoStream::kRateIntervals ? stats.fps : 0, state.revision,
+                              rendered.source_rate_hz);
       if (au.data.empty()) return;  // a new stream's first frames: they only measured the rate
       frame->set_encoding(v1::H264);
       frame->set_width(rendered.image.cols);

@@ -21,6 +21,7 @@ struct RenderedFrame {
   uint64_t sequence = 0;
   std::chrono::system_clock::time_point capture_time;
   std::chrono::steady_clock::time_point arrival;  // of the source's frame set
+  double source_rate_hz = 0;  // the source's nominal rate (Source::nominal_rate_hz), 0: unknown
   std::atomic<bool> counted{false};  // the view's statistics count the first encoding delivered
   // Rendered again from the source's last images because it delivers nothing new
   // (staleness.h): sent marked, and not counted as a new frame.

@@ -141,6 +141,7 @@ void Pipeline::render_view(const std::shared_ptr<LiveView>& view, const FrameSet
   rendered->sequence = frames.sequence;
   rendered->capture_time = frames.capture_time;
   rendered->arrival = frames.arrival;
+  rendered->source_rate_hz = channel(state->spec.source).source().nominal_rate_hz();
   if (staleness) {
     rendered->stale = true;
     rendered->stale_reason = staleness->reason;

@@ -50,7 +50,7 @@ void VideoStream::request_key_frame_at(uint64_t revision) {
 }
 
 video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point arrival, double view_fps,
-                                      uint64_t revision) {
+                                      uint64_t revision, double source_fps) {
   std::lock_guard lock(mutex_);
   const cv::Mat* pixels = &image;
   if (key_.gray && image.channels() == 3) {
@@ -82,6 +82,7 @@ video::AccessUnit VideoStream::encode(const cv::Mat& image, Clock::time_point ar
       const size_t n = sorted.size();
       fps = 2.0 / (sorted[(n - 1) / 2] + sorted[n / 2]);
     }
+    if (source_fps > 0 && fps >= kNominalShare * source_fps) fps = source_fps;
     if (key_.rate_mhz > 0) fps = std::min(fps, key_.rate_mhz / 1000.0);
     video::H264Settings settings;
     settings.width = pixels->cols;

@@ -36,6 +36,8 @@ class VideoStream {
   // after this long for a slow view (~270 ms at 15 Hz before its first frame).
   static constexpr int kRateIntervals = 4;
   static constexpr std::chrono::seconds kRateWindow{1};
+  // A measured rate at least this share of the source's nominal one declares the nominal.
+  static constexpr double kNominalShare = 0.8;
 
   explicit VideoStream(const EncodingKey& key);
 
@@ -61,10 +63,14 @@ class VideoStream {
   // whole number within 3 %; without it, the stream measures the rate itself
   // over its first kRateIntervals intervals (or kRateWindow), and until then each frame
   // only times the rate and an empty access unit comes back (nothing to send).
+  // `source_fps` is the source's nominal rate (Source::nominal_rate_hz, 0: unknown): a rate
+  // measured within kNominalShare of it is that rate exactly (a few intervals on a busy
+  // machine read 12 Hz from a 10 Hz source); one well below it (a render that cannot keep
+  // up, a robot slowed by its Wi-Fi) is declared as measured.
   // Throws std::invalid_argument where the image cannot be H.264 (an odd size), or
   // std::runtime_error if the encoder fails. `revision`: the view revision `image` shows.
   video::AccessUnit encode(const cv::Mat& image, Clock::time_point arrival, double view_fps = 0,
-                           uint64_t revision = 0);
+                           uint64_t revision = 0, double source_fps = 0);
 
   // The group's newest key frame, as sent, and when it was made: a new client that must
   // start at a key frame before it plays (RTSP's DESCRIBE wants the SPS/PPS for its SDP)

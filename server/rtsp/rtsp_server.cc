@@ -314,6 +314,7 @@ void RtspServer::Impl::close_idle_clients() {
         // system's trust store per connection), and left the socket in CLOSE-WAIT.
         if (!state->shut_down) {
           state->shut_down = now;
+          state->slot.reset();  // the connection is over for its client now: its slot is free for the next
           if (GstRTSPConnection* conn = gst_rtsp_client_get_connection(client)) {
             if (GSocket* socket = gst_rtsp_connection_get_read_socket(conn)) g_socket_shutdown(socket, TRUE, TRUE, nullptr);
           }

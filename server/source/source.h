@@ -68,6 +68,12 @@ class Source {
   // (FrameSet::depth).
   virtual void set_depth_wanted(bool wanted) { (void)wanted; }
 
+  // The rate the source sends frame sets at when nothing holds it back (its configured or
+  // requested rate), 0 where it cannot know (a camera's own clock). A new H.264 stream
+  // declares it in its SPS when the frames measured come close to it: a rate measured from a
+  // few intervals on a busy machine is off by a tenth now and then.
+  virtual double nominal_rate_hz() const { return 0; }
+
   virtual SourceHealth health() const = 0;
 
   // The latest checks the source made of its cameras; empty when it makes none.

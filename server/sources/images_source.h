@@ -31,6 +31,7 @@ class ImagesSource : public Source {
   void start(FrameCallback on_frame) override;
   void stop() override;
   SourceHealth health() const override;
+  double nominal_rate_hz() const override { return rate_hz_; }
 
   struct CameraImage {
     cv::Mat image;

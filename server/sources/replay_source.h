@@ -40,6 +40,7 @@ class ReplaySource : public Source {
   void start(FrameCallback on_frame) override;
   void stop() override;
   SourceHealth health() const override;
+  double nominal_rate_hz() const override { return rate_hz_ * speed_; }  // 0: the recorded timing, not known ahead
   bool provides_clouds() const override { return has_clouds_; }
   void set_cloud_wanted(bool wanted) override { cloud_wanted_ = wanted; }
 

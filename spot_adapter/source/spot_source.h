@@ -44,6 +44,7 @@ class SpotSource : public Source {
   void set_cloud_wanted(bool wanted) override;
   void set_depth_wanted(bool wanted) override;
   SourceHealth health() const override;
+  double nominal_rate_hz() const override { return settings_.rate_hz; }
   std::shared_ptr<const std::map<std::string, double>> latest_joints() const override;
 
  private:

@@ -179,6 +179,21 @@ TEST(VideoStream, TheStreamDeclaresTheRateFramesComeAt) {
     EXPECT_TRUE(video.encode(picture(1), t0 + 1000ms).key_frame);
     EXPECT_DOUBLE_EQ(video.declared_fps(), 1);
   }
+  {
+    // A 10 Hz source whose frames came in a jittery bunch (the median interval 83 ms: 12 Hz
+    // by itself): the source's own rate.
+    VideoStream video(h264_key());
+    const std::chrono::milliseconds arrivals[] = {0ms, 83ms, 166ms, 249ms, 332ms};
+    for (int i = 0; i < 4; ++i) EXPECT_TRUE(video.encode(picture(i), t0 + arrivals[i], 0, 0, 10).data.empty());
+    EXPECT_TRUE(video.encode(picture(4), t0 + arrivals[4], 0, 0, 10).key_frame);
+    EXPECT_DOUBLE_EQ(video.declared_fps(), 10);
+  }
+  {
+    // The same source, its view rendered at half its rate: what players will really get.
+    VideoStream video(h264_key());
+    EXPECT_TRUE(video.encode(picture(0), t0, 5, 0, 10).key_frame);
+    EXPECT_DOUBLE_EQ(video.declared_fps(), 5);
+  }
 }
 
 TEST(VideoStream, KeyFramesOnJoinOnAskAndNotMoreOftenThanTheBound) {
