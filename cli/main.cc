@@ -36,6 +36,7 @@ talking to omniviewd:
   status    the daemon's sources, views and clients
   record    record what a source delivers, for the replay source
   joints    the robot overlay's joint positions: show them, or set them
+  blackbox  save the daemon's black box (its last minutes) as a recording
   cloud     save a source's coloured lidar cloud (-o out.ply; --count N, --follow)
 
 Connection options of those commands, before or after the command: --server HOST:PORT
@@ -55,7 +56,7 @@ const std::map<std::string, Command>& commands() {
       {"ptz", cli::ptz_command},       {"snapshot", cli::snapshot_command}, {"watch", cli::watch_command},
       {"stream", cli::stream_command}, {"status", cli::status_command},     {"record", cli::record_command},
       {"joints", cli::joints_command},  {"colorize", cli::colorize_command}, {"export", cli::export_command},
-      {"show", cli::show_command},     {"cloud", cli::cloud_command}};
+      {"show", cli::show_command},     {"cloud", cli::cloud_command},       {"blackbox", cli::blackbox_command}};
   return table;
 }
 

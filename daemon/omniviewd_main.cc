@@ -134,6 +134,11 @@ int main(int argc, char** argv) {
       std::cerr << "omniviewd: console and Foxglove WebSocket on " << daemon.web_url()
                 << (config.tokens.empty() ? "" : " (tokens required)") << std::endl;
     }
+    if (config.blackbox) {
+      std::cerr << "omniviewd: black box: the last " << config.blackbox->minutes << " min of each source (at most "
+                << (config.blackbox->max_bytes >> 20) << " MiB) in " << config.blackbox->folder
+                << "; 'omniview blackbox save NAME' saves it" << std::endl;
+    }
     // Not an error (nothing saved yet), but said: a path that resolves elsewhere than the
     // user thinks (it is relative to the config's folder) would otherwise lose views silently.
     if (std::error_code ec; !config.views_file.empty() && !std::filesystem::exists(config.views_file, ec)) {

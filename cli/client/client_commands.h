@@ -16,6 +16,7 @@ int stream_command(const std::vector<std::string>& args);
 int status_command(const std::vector<std::string>& args);
 int record_command(const std::vector<std::string>& args);
 int joints_command(const std::vector<std::string>& args);
+int blackbox_command(const std::vector<std::string>& args);
 int show_command(const std::vector<std::string>& args);
 int cloud_command(const std::vector<std::string>& args);
 

@@ -104,6 +104,21 @@ int status_command(const std::vector<std::string>& argv) {
     }
   }
 
+  if (!status.blackbox().empty()) {
+    std::cout << "\nblack box (the last minutes, on the daemon's machine):\n";
+    Table box({"SOURCE", "SPAN", "OF", "SIZE", "OF", "FRAME SETS", "NOT KEPT", "FOLDER"});
+    for (const auto& b : status.blackbox()) {
+      box.add({b.source(), fixed(b.span_s(), 1) + " s", fixed(b.minutes() * 60, 0) + " s",
+               fixed(double(b.bytes()) / 1e6, 1) + " MB", fixed(double(b.max_bytes()) / 1e6, 0) + " MB",
+               std::to_string(b.frame_sets()), std::to_string(b.not_kept()), b.folder()});
+    }
+    box.print(std::cout, "  ");
+    for (const auto& b : status.blackbox()) {
+      if (!b.message().empty()) std::cout << "  warning: black box of '" << b.source() << "': " << b.message() << "\n";
+      if (!b.last_snapshot().empty()) std::cout << "  last snapshot of '" << b.source() << "': " << b.last_snapshot() << "\n";
+    }
+  }
+
   std::cout << "\nclients:\n";
   if (status.clients().empty()) {
     std::cout << "  none\n";

@@ -273,6 +273,39 @@ grpc::Status OmniviewService::GetStatus(grpc::ServerContext* ctx, const v1::GetS
   });
 }
 
+grpc::Status OmniviewService::SaveBlackBox(grpc::ServerContext* ctx, const v1::SaveBlackBoxRequest* req,
+                                           v1::SaveBlackBoxResponse* resp) {
+  OMNIVIEW_AUTHORIZE(ctx);
+  OMNIVIEW_CHECK_BOUNDS(req);
+  return guarded([&] {
+    if (black_box_ == nullptr) {
+      return grpc::Status(grpc::StatusCode::FAILED_PRECONDITION,
+                          "this daemon keeps no black box: add `blackbox: {minutes: 5, max_bytes: 2G, folder: blackbox}` "
+                          "to its config");
+    }
+    try {
+      for (const SnapshotSummary& s : black_box_->save(req->name(), req->source())) {
+        auto* out = resp->add_snapshots();
+        out->set_source(s.source);
+        out->set_folder(s.folder.string());
+        out->set_frame_sets(s.frame_sets);
+        out->set_span_s(s.span.count());
+        out->set_bytes(s.bytes);
+        out->set_note(s.note);
+      }
+    } catch (const SnapshotError& e) {
+      using Kind = SnapshotError::Kind;
+      const grpc::StatusCode code = e.kind() == Kind::kInvalidName     ? grpc::StatusCode::INVALID_ARGUMENT
+                                    : e.kind() == Kind::kExists        ? grpc::StatusCode::ALREADY_EXISTS
+                                    : e.kind() == Kind::kUnknownSource ? grpc::StatusCode::NOT_FOUND
+                                    : e.kind() == Kind::kEmpty         ? grpc::StatusCode::FAILED_PRECONDITION
+                                                                       : grpc::StatusCode::INTERNAL;
+      return grpc::Status(code, e.what());
+    }
+    return grpc::Status::OK;
+  });
+}
+
 grpc::Status OmniviewService::SetJointPositions(grpc::ServerContext* ctx, const v1::SetJointPositionsRequest* req,
                                                 v1::JointPositions* resp) {
   OMNIVIEW_AUTHORIZE(ctx);

@@ -8,6 +8,7 @@
 
 #include "omniview/v1/omniview.grpc.pb.h"
 #include "server/auth/authenticator.h"
+#include "server/blackbox/black_box.h"
 #include "server/config/daemon_config.h"
 #include "server/pipeline/pipeline.h"
 
@@ -45,6 +46,11 @@ class OmniviewService final : public v1::Omniview::Service {
   grpc::Status StreamClouds(grpc::ServerContext* ctx, const v1::StreamCloudsRequest* req,
                             grpc::ServerWriter<v1::PointCloud>* writer) override;
   grpc::Status GetCloud(grpc::ServerContext* ctx, const v1::GetCloudRequest* req, v1::PointCloud* resp) override;
+  grpc::Status SaveBlackBox(grpc::ServerContext* ctx, const v1::SaveBlackBoxRequest* req,
+                            v1::SaveBlackBoxResponse* resp) override;
+
+  // The daemon's black box, when its config has one (SaveBlackBox refuses without). Before serving.
+  void set_black_box(BlackBox* black_box) { black_box_ = black_box; }
 
  private:
   // Counts a stream against the per-client and total limits for its lifetime.
@@ -53,6 +59,7 @@ class OmniviewService final : public v1::Omniview::Service {
   void release_stream(const std::string& peer);
 
   Pipeline& pipeline_;
+  BlackBox* black_box_ = nullptr;
   const Authenticator& auth_;
   const Limits limits_;
   std::mutex streams_mutex_;

@@ -21,6 +21,7 @@ const std::vector<Permission>& all() {
       {"omniview.v1.Omniview/PointToPixel", Role::kViewer},
       {"omniview.v1.Omniview/GetStatus", Role::kViewer},
       {"omniview.v1.Omniview/SetJointPositions", Role::kOperator},
+      {"omniview.v1.Omniview/SaveBlackBox", Role::kOperator},
       {"omniview.v1.Omniview/GetJointPositions", Role::kViewer},
       {"omniview.v1.Omniview/StreamSourceFrames", Role::kViewer},
       {"omniview.v1.Omniview/StreamClouds", Role::kViewer},

@@ -27,6 +27,7 @@ std::vector<ViewSpec> parse_daemon_views(const YamlReader& reader, const YAML::N
 void apply_views_file(const YamlReader& config_reader, const YAML::Node& node, const std::string& file,
                       const std::vector<SourceEntry>& sources, const Limits& limits, std::vector<ViewSpec>& views);
 
+BlackBoxConfig parse_blackbox(const YamlReader& reader, const YAML::Node& node, const std::string& folder);
 RtspConfig parse_rtsp(const YamlReader& reader, const YAML::Node& node, const Limits& limits);
 WebConfig parse_web(const YamlReader& reader, const YAML::Node& node, const std::string& folder);
 

@@ -82,7 +82,7 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   const YAML::Node root = r.root();
   if (!root.IsMap()) r.fail(root, "", "expected a map with listen, sources, views, ...");
   r.expect_keys(root, "", {"listen", "tls", "tokens", "allow_insecure_remote", "limits", "sources", "views",
-                          "robot_models", "views_file", "rtsp", "web"});
+                          "robot_models", "views_file", "rtsp", "web", "blackbox"});
 
   DaemonConfig config;
   config.file = r.file();
@@ -109,6 +109,7 @@ DaemonConfig parse_daemon_config(const YamlReader& reader, const std::string& fo
   apply_listen_override(config, options.env, kListenEnv);
   apply_listen_override(config, options.flag, "--listen");
   if (const YAML::Node rtsp = root["rtsp"]; rtsp && !rtsp.IsNull()) config.rtsp = parse_rtsp(r, rtsp, config.limits);
+  if (const YAML::Node box = root["blackbox"]; box && !box.IsNull()) config.blackbox = parse_blackbox(r, box, folder);
   check_listen_exposure(config, options.resolve);
   check_rtsp_exposure(config, options.resolve);
   check_web_exposure(config, options.resolve);

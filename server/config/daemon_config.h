@@ -16,11 +16,13 @@
 //   rtsp: {listen: 127.0.0.1:8554, quality: 0, max_bitrate_kbps: 0, max_rate_hz: 0}  # optional
 //   robot_models:                                     # optional: the robot drawn into views
 //     - {source: spot, urdf: robot.urdf, mesh_path: [meshes], frame: body, joints: {...}}
+//   blackbox: {minutes: 5, max_bytes: 2G, folder: blackbox}   # optional: the last minutes on disk
 //
 // Relative paths resolve against the config file's folder. Every error names the file, the
 // line and the key, and the daemon refuses to start.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <optional>
@@ -111,6 +113,16 @@ struct RtspConfig {
   int idle_timeout_s = 20;
 };
 
+// `blackbox:` — the daemon keeps the last `minutes` of what its sources deliver (camera
+// images, clouds, joints, rig) in a ring on disk of at most `max_bytes`, and saves it as an
+// ordinary recording on request or when a robot's connection drops (server/blackbox).
+struct BlackBoxConfig {
+  double minutes = 5;
+  uint64_t max_bytes = uint64_t{2} << 30;
+  std::string folder;  // resolved; the ring is folder/ring/<source>, snapshots folder/snapshots/<name>
+  YAML::Node node;     // for errors found at start (an unwritable folder)
+};
+
 struct DaemonConfig {
   std::string file;    // the config file, for messages
   std::string folder;  // relative paths resolve against it
@@ -129,6 +141,7 @@ struct DaemonConfig {
   std::string views_file;
   std::optional<RtspConfig> rtsp;
   WebConfig web;
+  std::optional<BlackBoxConfig> blackbox;
 };
 
 // Where the listen address may come from besides the file, strongest first: the --listen

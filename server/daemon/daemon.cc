@@ -97,8 +97,24 @@ Daemon::Daemon(const DaemonConfig& config, bool listen) : config_(config) {
     }
   }
 
+  if (config_.blackbox) {
+    const YAML::Node box = reader.root()["blackbox"];
+    try {
+      if (listen) {
+        std::vector<std::string> sources;
+        for (const auto& s : config_.sources) sources.push_back(s.name);
+        black_box_ = std::make_unique<BlackBox>(*config_.blackbox, *pipeline_, sources);
+      } else {
+        BlackBox::check_folder(config_.blackbox->folder);  // --check leaves a ring as it is
+      }
+    } catch (const std::exception& e) {
+      reader.fail(box && box["folder"] ? box["folder"] : box, "blackbox.folder", e.what());
+    }
+  }
+
   auth_ = std::make_unique<Authenticator>(config_.tokens);
   service_ = std::make_unique<OmniviewService>(*pipeline_, *auth_, config_.limits);
+  service_->set_black_box(black_box_.get());
   const auto credentials = make_server_credentials(config_.tls);
   if (!listen) return;
 
@@ -173,6 +189,7 @@ void Daemon::shutdown(std::chrono::milliseconds grace) {
   if (server_) server_->GetHealthCheckService()->Shutdown();  // health: NOT_SERVING from now on
   if (rtsp_) rtsp_->stop();  // its clients' feeds leave the pipeline first
   if (web_) web_->stop();  // browsers told "shutting down" (close 1001) before their streams end
+  if (black_box_) black_box_->stop();  // its open segments closed whole
   // Streams end first (their handlers return UNAVAILABLE), so Shutdown has little to wait for.
   pipeline_->stop("omniviewd is shutting down");
   if (server_) {

@@ -9,6 +9,7 @@
 
 #include "server/api/omniview_service.h"
 #include "server/auth/authenticator.h"
+#include "server/blackbox/black_box.h"
 #include "server/config/daemon_config.h"
 #include "server/pipeline/pipeline.h"
 #include "server/rtsp/rtsp_server.h"
@@ -46,6 +47,7 @@ class Daemon {
  private:
   DaemonConfig config_;
   std::unique_ptr<Pipeline> pipeline_;
+  std::unique_ptr<BlackBox> black_box_;  // after the pipeline: stopped and destroyed before it
   std::unique_ptr<Authenticator> auth_;
   std::unique_ptr<OmniviewService> service_;
   std::unique_ptr<grpc::Server> server_;

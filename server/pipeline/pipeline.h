@@ -22,6 +22,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -87,7 +88,10 @@ class Pipeline {
   std::shared_ptr<Subscriber> subscribe(const std::string& view, const std::string& peer, EncodingKey key,
                                         double max_rate_hz, bool stale_frames = false);
   void unsubscribe(const std::string& view, const Subscriber* subscriber);
-  std::shared_ptr<FrameSetTap> tap(const std::string& source);
+  // Every frame set of `source` into a bounded queue (a recording). A passive tap (the black
+  // box) keeps what flows for the views anyway and asks the source for nothing more; an
+  // active one makes it deliver every camera at full resolution.
+  std::shared_ptr<FrameSetTap> tap(const std::string& source, bool passive = false, TapLimits limits = {});
   void untap(const std::string& source, const FrameSetTap* tap);
   // Coloured clouds of `source` ("" = default) as `request` asks: NOT_FOUND for an unknown
   // source, FAILED_PRECONDITION for one without clouds, INVALID_ARGUMENT for a frame the
@@ -101,6 +105,11 @@ class Pipeline {
   std::shared_ptr<const Rig> rig(const std::string& source) const;
 
   v1::Status status() const;
+  // What status() adds from outside the pipeline (the black box's rings); empty to remove.
+  // Setting waits for a status() in flight, so the extension's owner may go after it.
+  void set_status_extension(std::function<void(v1::Status&)> extension);
+  // What `source` ("" = default) says of itself now (connected, its last problem).
+  SourceHealth source_health(const std::string& source) const;
   // The robot overlay's joints of `source` ("" = default): set through the API, and read.
   v1::JointPositions set_joint_positions(const std::string& source, const JointMap& positions, bool clear);
   v1::JointPositions joint_positions(const std::string& source) const;
@@ -146,6 +155,8 @@ class Pipeline {
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 
   mutable std::mutex views_mutex_;
+  mutable std::mutex status_extension_mutex_;
+  std::function<void(v1::Status&)> status_extension_;
   std::map<std::string, std::shared_ptr<LiveView>> views_;
 
   std::mutex rebuild_mutex_;

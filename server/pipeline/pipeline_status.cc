@@ -16,6 +16,13 @@ constexpr double kDegradedFailureRate = 0.1;
 
 }  // namespace
 
+SourceHealth Pipeline::source_health(const std::string& source) const { return channel(source).source().health(); }
+
+void Pipeline::set_status_extension(std::function<void(v1::Status&)> extension) {
+  std::lock_guard lock(status_extension_mutex_);
+  status_extension_ = std::move(extension);
+}
+
 v1::Status Pipeline::status() const {
   v1::Status st;
   st.set_version("0.1.0");
@@ -99,6 +106,10 @@ v1::Status Pipeline::status() const {
     for (size_t k = 0; k < used.size(); ++k) {
       if (used[k]) st.mutable_sources(i)->add_active_cameras(r->cameras()[k].name);
     }
+  }
+  {
+    std::lock_guard lock(status_extension_mutex_);
+    if (status_extension_) status_extension_(st);
   }
   return st;
 }

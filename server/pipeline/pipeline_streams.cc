@@ -68,12 +68,12 @@ void Pipeline::unsubscribe(const std::string& name, const Subscriber* subscriber
   update_wanted_cameras(view->state()->spec.source);
 }
 
-std::shared_ptr<FrameSetTap> Pipeline::tap(const std::string& source) {
+std::shared_ptr<FrameSetTap> Pipeline::tap(const std::string& source, bool passive, TapLimits limits) {
   if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
   SourceChannel& ch = channel(source);
-  auto t = std::make_shared<FrameSetTap>(limits_.record_queue);
-  ch.add_tap(t);
-  update_wanted_cameras(ch.source().name());
+  auto t = std::make_shared<FrameSetTap>(passive ? limits : limits_.record_queue);
+  ch.add_tap(t, passive);
+  if (!passive) update_wanted_cameras(ch.source().name());
   return t;
 }
 

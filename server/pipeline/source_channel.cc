@@ -22,6 +22,7 @@ void SourceChannel::deliver(std::shared_ptr<const FrameSet> frames) {
     pending_ = frames;
     latest_ = frames;
     taps = taps_;
+    taps.insert(taps.end(), passive_taps_.begin(), passive_taps_.end());
   }
   ready_.notify_one();
   for (const auto& t : taps) t->offer(frames);
@@ -52,14 +53,15 @@ std::shared_ptr<const FrameSet> SourceChannel::latest() const {
   return latest_;
 }
 
-void SourceChannel::add_tap(std::shared_ptr<FrameSetTap> tap) {
+void SourceChannel::add_tap(std::shared_ptr<FrameSetTap> tap, bool passive) {
   std::lock_guard lock(mutex_);
-  taps_.push_back(std::move(tap));
+  (passive ? passive_taps_ : taps_).push_back(std::move(tap));
 }
 
 void SourceChannel::remove_tap(const FrameSetTap* tap) {
   std::lock_guard lock(mutex_);
   std::erase_if(taps_, [&](const auto& p) { return p.get() == tap; });
+  std::erase_if(passive_taps_, [&](const auto& p) { return p.get() == tap; });
 }
 
 size_t SourceChannel::tap_count() const {
@@ -72,6 +74,7 @@ void SourceChannel::close_taps(const std::string& reason) {
   {
     std::lock_guard lock(mutex_);
     taps = taps_;
+    taps.insert(taps.end(), passive_taps_.begin(), passive_taps_.end());
   }
   for (const auto& t : taps) t->close(reason);
 }

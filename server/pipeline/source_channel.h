@@ -44,7 +44,9 @@ class SourceChannel {
   // The newest frame set seen (for snapshots of rig and images), may be null.
   std::shared_ptr<const FrameSet> latest() const;
 
-  void add_tap(std::shared_ptr<FrameSetTap> tap);
+  // A passive tap (the black box) takes what flows and asks the source for nothing: it is
+  // not counted by tap_count(), which makes a source deliver every camera.
+  void add_tap(std::shared_ptr<FrameSetTap> tap, bool passive = false);
   void remove_tap(const FrameSetTap* tap);
   size_t tap_count() const;
   void close_taps(const std::string& reason);
@@ -64,6 +66,7 @@ class SourceChannel {
   std::shared_ptr<const FrameSet> latest_;
   bool closed_ = false;
   std::vector<std::shared_ptr<FrameSetTap>> taps_;
+  std::vector<std::shared_ptr<FrameSetTap>> passive_taps_;
   SourceStats stats_;
 };
 

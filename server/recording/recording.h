@@ -56,6 +56,9 @@ class RecordingWriter {
   void set_next_cloud(std::shared_ptr<const PointCloud> cloud);
 
   size_t frames_written() const;
+  // What the folder takes on disk so far: every file and folder in whole 4 KiB blocks
+  // (recording_disk_bytes), so a budget on it holds on any usual file system.
+  uint64_t disk_bytes() const;
   void close();  // flushes; also done by the destructor
 
  private:
@@ -123,6 +126,10 @@ void parse_recording_joints(const std::string& joints_csv, const std::string& fi
 // naming file and line. A last line without its newline is ignored.
 void parse_recording_clouds(const std::string& clouds_csv, const std::string& file,
                             std::vector<RecordingFrame>& frames);
+
+// Bytes a file of `size` bytes takes on disk, counted in whole 4 KiB blocks (ext4's and
+// most file systems' block): a recording of many small images takes more than their sum.
+inline uint64_t recording_disk_bytes(uint64_t size) { return (size + 4095) / 4096 * 4096; }
 
 // "rig.yaml" for the first rig, "rig_<n>.yaml" for later ones.
 std::string recording_rig_file(size_t index);

@@ -51,6 +51,10 @@ struct RecordingWriter::Impl {
   size_t rig_count = 0;
   size_t frames = 0;
   bool closed = false;
+  uint64_t file_bytes = 0;  // images and clouds, each in whole blocks
+  uint64_t top_bytes = 0;   // recording.yaml and the rigs (with any masks), in whole blocks
+
+  void count_top_files();
 
   void start(const Rig& rig);
   size_t rig_index_for(const Rig& rig);
@@ -71,6 +75,7 @@ void RecordingWriter::Impl::write_cloud() {
   out.write(pcd.data(), static_cast<std::streamsize>(pcd.size()));
   out.flush();
   if (!out) throw std::runtime_error("cannot write '" + (folder / file).string() + "'");
+  file_bytes += recording_disk_bytes(pcd.size());
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(next_cloud->stamp.time_since_epoch()).count();
   clouds_csv << frames << ',' << ns << ',' << file << '\n';
   clouds_csv.flush();
@@ -185,6 +190,7 @@ size_t RecordingWriter::Impl::rig_index_for(const Rig& rig) {
   std::string text = rig_to_yaml(rig);
   if (rig_count > 0 && text == last_rig_yaml) return rig_count - 1;
   save_rig_yaml(rig, (folder / recording_rig_file(rig_count)).string());
+  count_top_files();
   last_rig_yaml = std::move(text);
   return rig_count++;
 }
@@ -204,6 +210,7 @@ void RecordingWriter::write(uint64_t sequence, std::chrono::system_clock::time_p
     const size_t cam = static_cast<size_t>(it - impl_->camera_names.begin());
     files[cam] = "images/" + std::to_string(impl_->frames) + "_" + std::to_string(cam) + extension_of(image.format);
     write_file(impl_->folder / files[cam], image.bytes.data(), image.bytes.size());
+    impl_->file_bytes += recording_disk_bytes(image.bytes.size());
   }
   if (!impl_->next_joints.empty()) impl_->write_joints();
   if (impl_->next_cloud) impl_->write_cloud();
@@ -255,6 +262,34 @@ void RecordingWriter::write(const FrameSet& frames) {
 size_t RecordingWriter::frames_written() const {
   std::lock_guard lock(impl_->mutex);
   return impl_->frames;
+}
+
+// The few files beside the index (a rig's masks are written by save_rig_yaml): stat'ed
+// when a rig is written, not counted one by one.
+void RecordingWriter::Impl::count_top_files() {
+  top_bytes = 0;
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (!entry.is_regular_file(ec) || name.size() > 4 && name.substr(name.size() - 4) == ".csv") continue;
+    top_bytes += recording_disk_bytes(entry.file_size(ec));
+  }
+}
+
+uint64_t RecordingWriter::disk_bytes() const {
+  std::lock_guard lock(impl_->mutex);
+  const Impl& i = *impl_;
+  uint64_t bytes = i.file_bytes + i.top_bytes;
+  uint64_t folders = 2;  // the recording's and images/
+  // The index files as far as written (tellp: appended so far; closed ones count nothing
+  // more, their last size was counted when they were open).
+  for (const std::ofstream* csv : {&i.csv, &i.joints_csv, &i.clouds_csv}) {
+    if (!csv->is_open()) continue;
+    const auto at = const_cast<std::ofstream*>(csv)->tellp();
+    if (at > 0) bytes += recording_disk_bytes(static_cast<uint64_t>(at));
+  }
+  if (i.clouds_csv.is_open()) ++folders;  // clouds/
+  return bytes + folders * 4096;
 }
 
 void RecordingWriter::close() {

@@ -1,0 +1,276 @@
+#include "server/blackbox/black_box.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+#include <regex>
+
+namespace omniview {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// Frame sets waiting for the disk: a few seconds of a robot, so a slow flush loses nothing.
+const TapLimits kQueue{64, size_t{128} << 20};
+// How often the watcher looks at the sources' connections.
+constexpr std::chrono::milliseconds kWatchInterval{250};
+// Write errors (a full disk) are logged at most this often per source.
+constexpr std::chrono::seconds kErrorLogInterval{10};
+
+std::string utc_stamp() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y%m%dT%H%M%SZ", &tm);
+  return text;
+}
+
+void log(const std::string& line) { std::cerr << "omniviewd: black box: " << line << std::endl; }
+
+std::string describe_span(double seconds) {
+  char text[32];
+  if (seconds >= 60) {
+    std::snprintf(text, sizeof text, "%dm%02ds", int(seconds) / 60, int(seconds) % 60);
+  } else {
+    std::snprintf(text, sizeof text, "%.1f s", seconds);
+  }
+  return text;
+}
+
+}  // namespace
+
+struct BlackBox::Recorder {
+  std::string source;
+  mutable std::mutex mutex;  // the ring and the fields below
+  std::unique_ptr<BlackBoxRing> ring;
+  std::shared_ptr<FrameSetTap> tap;
+  uint64_t not_kept = 0;  // too big for a segment, or a write failed
+  std::string message;
+  Clock::time_point last_error_log{};
+  std::string last_snapshot;
+  Clock::time_point last_auto_save{};
+  bool was_connected = false;  // watcher thread only
+  std::thread writer;
+};
+
+void BlackBox::check_folder(const std::string& folder) {
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  if (ec) throw std::runtime_error("cannot create the black box folder '" + folder + "': " + ec.message());
+  const fs::path probe = fs::path(folder) / ".writable";
+  FILE* f = std::fopen(probe.c_str(), "w");
+  if (f == nullptr) throw std::runtime_error("cannot write in the black box folder '" + folder + "'");
+  std::fclose(f);
+  fs::remove(probe, ec);
+}
+
+BlackBox::BlackBox(const BlackBoxConfig& config, Pipeline& pipeline, const std::vector<std::string>& sources)
+    : config_(config), pipeline_(pipeline) {
+  BlackBoxRingOptions options;
+  options.span = std::chrono::milliseconds(static_cast<int64_t>(config.minutes * 60000));
+  options.max_bytes = config.max_bytes / std::max<size_t>(1, sources.size());
+  for (const auto& source : sources) {
+    auto r = std::make_unique<Recorder>();
+    r->source = source;
+    r->ring = std::make_unique<BlackBoxRing>(fs::path(config.folder) / "ring" / source, source, options,
+                                             [source](const std::string& line) { log("'" + source + "': " + line); });
+    if (r->ring->frame_sets() > 0) {
+      log("'" + source + "': kept " + describe_span(r->ring->span().count()) + " from before the restart");
+    }
+    recorders_.push_back(std::move(r));
+  }
+  for (auto& r : recorders_) {
+    r->tap = pipeline_.tap(r->source, /*passive=*/true, kQueue);
+    r->writer = std::thread([this, rec = r.get()] { write_loop(*rec); });
+  }
+  watcher_ = std::thread([this] { watch_loop(); });
+  pipeline_.set_status_extension([this](v1::Status& status) { describe(status); });
+}
+
+BlackBox::~BlackBox() { stop(); }
+
+void BlackBox::stop() {
+  if (stopping_.exchange(true)) return;
+  pipeline_.set_status_extension(nullptr);
+  {
+    std::lock_guard lock(watch_mutex_);
+  }
+  watch_wake_.notify_all();
+  if (watcher_.joinable()) watcher_.join();
+  for (auto& r : recorders_) {
+    if (r->tap) {
+      pipeline_.untap(r->source, r->tap.get());
+      r->tap->close("the black box stops");
+    }
+    if (r->writer.joinable()) r->writer.join();
+    std::lock_guard lock(r->mutex);
+    try {
+      r->ring->seal();
+    } catch (const std::exception& e) {
+      log("'" + r->source + "': " + e.what());
+    }
+  }
+}
+
+void BlackBox::write_loop(Recorder& r) {
+  while (!stopping_) {
+    const auto taken = r.tap->take(std::chrono::milliseconds(200));
+    if (!taken) continue;
+    if (!taken->frames) return;  // closed
+    std::lock_guard lock(r.mutex);
+    try {
+      if (!r.ring->write(*taken->frames)) {
+        ++r.not_kept;
+        r.message = "a frame set larger than a segment (an eighth of the source's share of max_bytes) was not kept";
+      } else {
+        r.message.clear();  // writing again (the count of what was not kept stays)
+      }
+    } catch (const std::exception& e) {
+      ++r.not_kept;
+      r.message = e.what();
+      if (Clock::now() - r.last_error_log > kErrorLogInterval) {
+        r.last_error_log = Clock::now();
+        log("'" + r.source + "': not kept: " + r.message + " (" + std::to_string(r.not_kept) + " frame sets so far)");
+      }
+    }
+  }
+}
+
+// A source whose connection drops (a robot out of Wi-Fi reach, a camera unplugged): its
+// ring saved as it is, the minutes before the drop. At most once per half span per
+// source, so a flapping link cannot fill the disk with copies of the same minutes.
+void BlackBox::watch_loop() {
+  std::unique_lock lock(watch_mutex_);
+  while (!watch_wake_.wait_for(lock, kWatchInterval, [&] { return stopping_.load(); })) {
+    lock.unlock();
+    for (auto& r : recorders_) {
+      bool connected = false;
+      try {
+        connected = pipeline_.source_health(r->source).connected;
+      } catch (const std::exception&) {
+        continue;
+      }
+      const bool dropped = r->was_connected && !connected;
+      r->was_connected = connected;
+      if (!dropped) continue;
+      const auto min_gap = std::max(std::chrono::milliseconds(10000),
+                                    std::chrono::milliseconds(static_cast<int64_t>(config_.minutes * 30000)));
+      {
+        std::lock_guard rl(r->mutex);
+        if (r->ring->frame_sets() == 0) continue;
+        if (r->last_auto_save != Clock::time_point{} && Clock::now() - r->last_auto_save < min_gap) {
+          log("'" + r->source + "' lost again: not saved again so soon (" + r->last_snapshot + " has the minutes before)");
+          continue;
+        }
+        r->last_auto_save = Clock::now();
+      }
+      const std::string name = r->source + "-lost-" + utc_stamp();
+      try {
+        std::lock_guard save(save_mutex_);
+        for (const auto& s : save_locked(name, {r.get()})) {
+          log("'" + r->source + "' lost its connection: saved the " + describe_span(s.span.count()) + " before it to " +
+              s.folder.string() + (s.note.empty() ? "" : " (" + s.note + ")"));
+        }
+      } catch (const std::exception& e) {
+        log("'" + r->source + "' lost its connection; its ring could not be saved: " + e.what());
+      }
+    }
+    lock.lock();
+  }
+}
+
+std::vector<SnapshotSummary> BlackBox::save(const std::string& name, const std::string& source) {
+  static const std::regex kName("[A-Za-z0-9][A-Za-z0-9._-]{0,63}");
+  if (!std::regex_match(name, kName)) {
+    throw SnapshotError(SnapshotError::Kind::kInvalidName,
+                        "snapshot name '" + name + "': use 1-64 letters, digits, '.', '_' or '-', starting with a letter or digit");
+  }
+  std::vector<Recorder*> chosen;
+  for (auto& r : recorders_) {
+    if (source.empty() || r->source == source) chosen.push_back(r.get());
+  }
+  if (chosen.empty()) {
+    std::string names;
+    for (auto& r : recorders_) names += (names.empty() ? "" : ", ") + r->source;
+    throw SnapshotError(SnapshotError::Kind::kUnknownSource,
+                        "no source '" + source + "' in the black box (it keeps: " + names + ")");
+  }
+  std::lock_guard lock(save_mutex_);
+  return save_locked(name, chosen);
+}
+
+std::vector<SnapshotSummary> BlackBox::save_locked(const std::string& name, const std::vector<Recorder*>& recorders) {
+  const fs::path snapshots = fs::path(config_.folder) / "snapshots";
+  const fs::path target = snapshots / name;
+  std::error_code ec;
+  if (fs::exists(target, ec)) {
+    throw SnapshotError(SnapshotError::Kind::kExists, "a snapshot '" + name + "' exists already (" + target.string() + ")");
+  }
+  const bool per_source = recorders_.size() > 1;
+  // Written under a hidden name and renamed when complete: a crash mid-save leaves no
+  // half snapshot under the real name.
+  const fs::path partial = snapshots / (".partial-" + name);
+  const fs::path staging = snapshots / (".staging-" + name);
+  fs::remove_all(partial, ec);
+  fs::remove_all(staging, ec);
+  std::vector<SnapshotSummary> saved;
+  try {
+    for (Recorder* r : recorders) {
+      std::vector<fs::path> staged;
+      {
+        std::lock_guard lock(r->mutex);
+        r->ring->seal();  // what the ring holds, complete on disk
+        staged = r->ring->stage(staging / r->source);
+      }
+      if (staged.empty()) continue;
+      const fs::path out = per_source ? partial / r->source : partial;
+      fs::create_directories(out.parent_path());
+      SnapshotSummary summary = merge_segments(staged, out, r->source);
+      summary.folder = per_source ? target / r->source : target;
+      saved.push_back(std::move(summary));
+    }
+    fs::remove_all(staging, ec);
+    if (saved.empty()) {
+      throw SnapshotError(SnapshotError::Kind::kEmpty,
+                          "the black box holds nothing yet: it keeps what the sources deliver, and a source delivers "
+                          "only while someone watches one of its views");
+    }
+    fs::create_directories(snapshots);
+    fs::rename(partial, target);
+  } catch (const SnapshotError&) {
+    fs::remove_all(partial, ec);
+    fs::remove_all(staging, ec);
+    throw;
+  } catch (const std::exception& e) {
+    fs::remove_all(partial, ec);
+    fs::remove_all(staging, ec);
+    throw SnapshotError(SnapshotError::Kind::kFailed, "snapshot '" + name + "' not saved: " + e.what());
+  }
+  for (Recorder* r : recorders) {
+    std::lock_guard lock(r->mutex);
+    r->last_snapshot = (per_source ? target / r->source : target).string();
+  }
+  return saved;
+}
+
+void BlackBox::describe(v1::Status& status) const {
+  for (const auto& r : recorders_) {
+    auto* out = status.add_blackbox();
+    out->set_source(r->source);
+    std::lock_guard lock(r->mutex);
+    out->set_folder(r->ring->folder().string());
+    out->set_span_s(r->ring->span().count());
+    out->set_bytes(r->ring->bytes());
+    out->set_max_bytes(config_.max_bytes / recorders_.size());
+    out->set_minutes(config_.minutes);
+    out->set_frame_sets(r->ring->frame_sets());
+    out->set_not_kept(r->not_kept + (r->tap ? r->tap->skipped() : 0));
+    out->set_message(r->message);
+    out->set_last_snapshot(r->last_snapshot);
+  }
+}
+
+}  // namespace omniview
