@@ -82,10 +82,17 @@ BlackBox::BlackBox(const BlackBoxConfig& config, Pipeline& pipeline, const std::
     }
     recorders_.push_back(std::move(r));
   }
-  for (auto& r : recorders_) {
-    r->tap = pipeline_.tap(r->source, /*passive=*/true, kQueue);
-    r->writer = std::thread([this, rec = r.get()] { write_loop(*rec); });
+  // Every tap first: a failure leaves no thread running (this constructor throws, and no
+  // destructor joins them).
+  try {
+    for (auto& r : recorders_) r->tap = pipeline_.tap(r->source, /*passive=*/true, kQueue);
+  } catch (...) {
+    for (auto& r : recorders_) {
+      if (r->tap) pipeline_.untap(r->source, r->tap.get());
+    }
+    throw;
   }
+  for (auto& r : recorders_) r->writer = std::thread([this, rec = r.get()] { write_loop(*rec); });
   watcher_ = std::thread([this] { watch_loop(); });
   pipeline_.set_status_extension([this](v1::Status& status) { describe(status); });
 }

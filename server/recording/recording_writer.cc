@@ -236,7 +236,9 @@ void RecordingWriter::write(const FrameSet& frames) {
     const EncodedImage* encoded = i < frames.encoded.size() ? &frames.encoded[i] : nullptr;
     const bool has_bytes = encoded && !encoded->format.empty() && encoded->bytes;
     if (mat.empty() && !has_bytes) continue;
-    if (!mat.empty() && (mat.cols != cameras[i].width || mat.rows != cameras[i].height)) {
+    // Bytes kept as received are the camera's whole image, whatever size the source decoded
+    // them to for its views (a JPEG's DCT scaling): only pixels to encode must match.
+    if (!has_bytes && (mat.cols != cameras[i].width || mat.rows != cameras[i].height)) {
       throw std::invalid_argument("recording: camera '" + cameras[i].name + "' image is " + std::to_string(mat.cols) +
                                   "x" + std::to_string(mat.rows) + ", its calibration is " +
                                   std::to_string(cameras[i].width) + "x" + std::to_string(cameras[i].height));

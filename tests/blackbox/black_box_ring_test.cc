@@ -188,6 +188,16 @@ TEST_F(BlackBoxRingTest, AFrameSetLargerThanASegmentIsRefusedNotKeptHalf) {
   EXPECT_TRUE(ring.write(robot_frames(rig_, 1, t0_, 100000)));
 }
 
+// A source that decodes smaller for its views (a JPEG's DCT scaling: the Insta360 Air) still
+// has the whole image's bytes as received: those are kept, the small pixels are not asked about.
+TEST_F(BlackBoxRingTest, KeepsTheBytesOfImagesTheSourceDecodedSmaller) {
+  BlackBoxRing ring(dir_ / "ring", "robot", {}, logger_);
+  FrameSet frames = robot_frames(rig_, 0, t0_, 1000);
+  for (auto& image : frames.images) image = cv::Mat(12, 16, CV_8UC1, cv::Scalar(0));  // half the calibration's size
+  EXPECT_TRUE(ring.write(frames));
+  EXPECT_EQ(ring.frame_sets(), 1u);
+}
+
 TEST_F(BlackBoxRingTest, ASnapshotIsOneOrdinaryRecordingOfEverySegment) {
   BlackBoxRingOptions options;
   options.span = 20s;
