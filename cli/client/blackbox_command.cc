@@ -21,13 +21,15 @@ folder on the daemon's machine (needs an operator token): an ordinary recording,
 
   --source SOURCE   only this source's ring (default: every source's)
 
-NAME: 1-64 letters, digits, '.', '_' or '-'. 'omniview status' shows what the ring holds.
+NAME: 1-64 letters, digits, '.', '_' or '-', starting with a letter or digit. The daemon
+prints where it saved (folder/snapshots/NAME on its machine, the folder relative to its
+config file). 'omniview status' shows what the ring holds.
 
 )") + connection_help();
 
-std::string megabytes(uint64_t bytes) {
+std::string mebibytes(uint64_t bytes) {  // as the config's max_bytes and `omniview status` count
   char text[32];
-  std::snprintf(text, sizeof text, "%.1f MB", double(bytes) / 1e6);
+  std::snprintf(text, sizeof text, "%.1f MiB", double(bytes) / (1 << 20));
   return text;
 }
 
@@ -52,7 +54,7 @@ int blackbox_command(const std::vector<std::string>& argv) {
   connection.check(connection.stub().SaveBlackBox(&context, request, &response), "");
   for (const auto& s : response.snapshots()) {
     std::cout << "saved source '" << s.source() << "': " << s.frame_sets() << " frame sets, " << fixed(s.span_s(), 1)
-              << " s, " << megabytes(s.bytes()) << " in " << s.folder() << " (on the daemon's machine)\n";
+              << " s, " << mebibytes(s.bytes()) << " in " << s.folder() << " (on the daemon's machine)\n";
     if (!s.note().empty()) std::cout << "  note: " << s.note() << "\n";
   }
   return 0;

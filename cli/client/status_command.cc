@@ -109,7 +109,7 @@ int status_command(const std::vector<std::string>& argv) {
     Table box({"SOURCE", "SPAN", "OF", "SIZE", "OF", "FRAME SETS", "NOT KEPT", "FOLDER"});
     for (const auto& b : status.blackbox()) {
       box.add({b.source(), fixed(b.span_s(), 1) + " s", fixed(b.minutes() * 60, 0) + " s",
-               fixed(double(b.bytes()) / 1e6, 1) + " MB", fixed(double(b.max_bytes()) / 1e6, 0) + " MB",
+               fixed(double(b.bytes()) / (1 << 20), 1) + " MiB", fixed(double(b.max_bytes()) / (1 << 20), 0) + " MiB",
                std::to_string(b.frame_sets()), std::to_string(b.not_kept()), b.folder()});
     }
     box.print(std::cout, "  ");

@@ -1,8 +1,13 @@
 #include "server/blackbox/black_box.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
+#include <fstream>
 #include <iostream>
 #include <regex>
 
@@ -18,6 +23,8 @@ const TapLimits kQueue{64, size_t{128} << 20};
 constexpr std::chrono::milliseconds kWatchInterval{250};
 // Write errors (a full disk) are logged at most this often per source.
 constexpr std::chrono::seconds kErrorLogInterval{10};
+// In a ring's folder while a daemon keeps it: found at start, the last run did not stop cleanly.
+constexpr const char* kOpenMarker = ".open";
 
 std::string utc_stamp() {
   const std::time_t now = std::time(nullptr);
@@ -57,14 +64,18 @@ struct BlackBox::Recorder {
 };
 
 void BlackBox::check_folder(const std::string& folder) {
+  // The folder, or the nearest folder above it that exists (where it would be made).
+  fs::path at = fs::absolute(folder);
   std::error_code ec;
-  fs::create_directories(folder, ec);
-  if (ec) throw std::runtime_error("cannot create the black box folder '" + folder + "': " + ec.message());
-  const fs::path probe = fs::path(folder) / ".writable";
-  FILE* f = std::fopen(probe.c_str(), "w");
-  if (f == nullptr) throw std::runtime_error("cannot write in the black box folder '" + folder + "'");
-  std::fclose(f);
-  fs::remove(probe, ec);
+  while (!fs::exists(at, ec) && at.has_parent_path() && at.parent_path() != at) at = at.parent_path();
+  if (!fs::is_directory(at, ec)) {
+    throw std::runtime_error("cannot create the black box folder '" + folder + "': '" + at.string() +
+                             "' is not a folder");
+  }
+  if (::access(at.c_str(), W_OK | X_OK) != 0) {
+    throw std::runtime_error("cannot write in '" + at.string() + "' (for the black box folder '" + folder +
+                             "'): " + std::strerror(errno));
+  }
 }
 
 BlackBox::BlackBox(const BlackBoxConfig& config, Pipeline& pipeline, const std::vector<std::string>& sources)
@@ -78,9 +89,29 @@ BlackBox::BlackBox(const BlackBoxConfig& config, Pipeline& pipeline, const std::
     r->ring = std::make_unique<BlackBoxRing>(fs::path(config.folder) / "ring" / source, source, options,
                                              [source](const std::string& line) { log("'" + source + "': " + line); });
     if (r->ring->frame_sets() > 0) {
-      log("'" + source + "': kept " + describe_span(r->ring->span().count()) + " from before the restart");
+      const double age_s =
+          std::chrono::duration<double>(std::chrono::system_clock::now() - r->ring->segments().back().last).count();
+      log("'" + source + "': kept " + describe_span(r->ring->span().count()) + " from before the restart (its newest " +
+          describe_span(std::max(0.0, age_s)) + " ago; it goes as new frame sets come)");
     }
     recorders_.push_back(std::move(r));
+  }
+  // A ring the last run did not close (its marker is still there): the daemon crashed or
+  // the power went. Its minutes are saved before new frame sets push them out.
+  for (auto& r : recorders_) {
+    const fs::path marker = r->ring->folder() / kOpenMarker;
+    std::error_code ec;
+    const bool unclean = fs::exists(marker, ec);
+    std::ofstream(marker) << "omniviewd keeps this black box; a clean stop removes this file\n";
+    if (!unclean || r->ring->frame_sets() == 0) continue;
+    try {
+      for (const auto& s : save_locked(r->source + "-crash-" + utc_stamp(), {r.get()})) {
+        log("'" + r->source + "': the last run stopped without closing its black box (a crash, a power cut): saved its " +
+            describe_span(s.span.count()) + " to " + s.folder.string());
+      }
+    } catch (const std::exception& e) {
+      log("'" + r->source + "': the last run stopped without closing its black box; it could not be saved: " + e.what());
+    }
   }
   // Every tap first: a failure leaves no thread running (this constructor throws, and no
   // destructor joins them).
@@ -116,6 +147,8 @@ void BlackBox::stop() {
     std::lock_guard lock(r->mutex);
     try {
       r->ring->seal();
+      std::error_code ec;
+      fs::remove(r->ring->folder() / kOpenMarker, ec);  // closed cleanly
     } catch (const std::exception& e) {
       log("'" + r->source + "': " + e.what());
     }
@@ -206,7 +239,12 @@ std::vector<SnapshotSummary> BlackBox::save(const std::string& name, const std::
                         "no source '" + source + "' in the black box (it keeps: " + names + ")");
   }
   std::lock_guard lock(save_mutex_);
-  return save_locked(name, chosen);
+  auto saved = save_locked(name, chosen);
+  for (const auto& s : saved) {
+    log("'" + s.source + "': saved " + describe_span(s.span.count()) + " (" + std::to_string(s.frame_sets) +
+        " frame sets) to " + s.folder.string() + " on request");
+  }
+  return saved;
 }
 
 std::vector<SnapshotSummary> BlackBox::save_locked(const std::string& name, const std::vector<Recorder*>& recorders) {

@@ -69,16 +69,13 @@ BlackBoxRing::BlackBoxRing(fs::path folder, std::string source, BlackBoxRingOpti
   }
   if (ec) throw std::runtime_error("cannot read the black box folder '" + folder_.string() + "': " + ec.message());
   std::sort(found.begin(), found.end());  // by name: by time
-  const auto oldest_kept = SystemClock::now() - options_.span - segment_length();
+  // Kept whatever their age: the minutes before a crash or a power cut are what a black box
+  // is for. They go when newer frame sets push them out of the span (make_room).
   for (const auto& path : found) {
     try {
       const Recording recording = Recording::open(path.string());
       RingSegment segment{path, folder_disk_bytes(path), recording.frames.size(), recording.frames.front().capture_time,
                           recording.frames.back().capture_time};
-      if (segment.last < oldest_kept) {
-        remove_folder(path, log_);
-        continue;
-      }
       segments_.push_back(std::move(segment));
     } catch (const std::exception& e) {
       // Another version's segment, or one cut short before its first frame: not ours to
@@ -139,7 +136,8 @@ void BlackBoxRing::drop_oldest() {
 
 void BlackBoxRing::make_room(uint64_t bytes, SystemClock::time_point now) {
   // Older than the span (a segment's worth of slack, so the span is always there)...
-  while (segments_.size() > 1 && segments_.front().last < now - options_.span) drop_oldest();
+  const size_t open = writer_ ? 1 : 0;  // the segment being written stays
+  while (segments_.size() > open && segments_.front().last < now - options_.span) drop_oldest();
   // ...and within the budget, the oldest first.
   while (!segments_.empty() && this->bytes() + bytes > options_.max_bytes) drop_oldest();
 }
@@ -152,6 +150,10 @@ void BlackBoxRing::start_segment(SystemClock::time_point first) {
 }
 
 bool BlackBoxRing::write(const FrameSet& frames) {
+  // A frame set with no image (a source's joints alone) shows nothing: not worth a line.
+  const bool any_image = std::any_of(frames.images.begin(), frames.images.end(), [](const cv::Mat& m) { return !m.empty(); }) ||
+                         std::any_of(frames.encoded.begin(), frames.encoded.end(), [](const EncodedImage& e) { return e.bytes != nullptr; });
+  if (!any_image) return true;
   const uint64_t expected = expected_bytes(frames);
   if (expected > segment_bytes()) return false;
   if (writer_) {
@@ -167,9 +169,11 @@ bool BlackBoxRing::write(const FrameSet& frames) {
     writer_->write(frames);
   } catch (...) {
     // The segment keeps what it wrote up to its last complete line; the next write starts
-    // a new one (a full disk may have room again by then: older segments go first).
+    // a new one. A disk with less room than max_bytes fills before the budget does: the
+    // oldest segment goes now, so the ring keeps turning within the room there is.
     try {
       seal();
+      if (segments_.size() > 1) drop_oldest();
     } catch (...) {
     }
     throw;
@@ -191,7 +195,8 @@ void BlackBoxRing::seal() {
   } catch (...) {
     failed = std::current_exception();
   }
-  if (open.frame_sets == 0) {  // nothing complete in it
+  std::error_code ec;
+  if (open.frame_sets == 0 || !fs::exists(open.folder / "frames.csv", ec)) {  // nothing complete in it, or gone
     remove_folder(open.folder, log_);
     segments_.pop_back();
   } else {

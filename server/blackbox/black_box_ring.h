@@ -40,9 +40,9 @@ struct RingSegment {
 
 class BlackBoxRing {
  public:
-  // Reads the segments already in `folder` (creating it), drops those older than the span
-  // and those that cannot be read (logged through `log`: another version's, or a write cut
-  // short before its first frame). Throws std::runtime_error naming the folder when it
+  // Reads the segments already in `folder` (creating it), whatever their age (they go when
+  // newer frame sets push them out of the span), and drops those that cannot be read
+  // (logged through `log`: another version's, or a write cut short before its first frame). Throws std::runtime_error naming the folder when it
   // cannot be created or written.
   BlackBoxRing(std::filesystem::path folder, std::string source, BlackBoxRingOptions options,
                std::function<void(const std::string&)> log = {});
@@ -50,8 +50,9 @@ class BlackBoxRing {
 
   // Keeps `frames`: a new segment when the current one is long or big enough, older ones
   // dropped first so the ring stays within max_bytes. Returns false (and keeps nothing)
-  // for a frame set bigger than a segment may be. Throws std::runtime_error on a write
-  // error (a full disk); the segment is then closed, so the next write starts a fresh one.
+  // for a frame set bigger than a segment may be; one without any image is passed over.
+  // Throws std::runtime_error on a write error (a full disk); the segment is then closed
+  // and the oldest one dropped, so the next write starts a fresh one in the room freed.
   bool write(const FrameSet& frames);
   // Closes the segment being written: what is in the ring is complete on disk, and the
   // next write starts a new segment.

@@ -20,6 +20,8 @@
 // Each frame's images and rig are written before its frames.csv line, and the line is
 // flushed at once: every complete line refers only to files already on disk.
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -35,6 +37,13 @@
 
 namespace omniview {
 namespace fs = std::filesystem;
+
+namespace {
+// Why a write failed, as the system said ("No space left on device"): errno of the
+// failed call, which the stream leaves in place.
+std::string os_reason() { return errno != 0 ? std::string(": ") + std::strerror(errno) : std::string(); }
+
+}  // namespace
 
 struct RecordingWriter::Impl {
   fs::path folder;
@@ -74,12 +83,12 @@ void RecordingWriter::Impl::write_cloud() {
   std::ofstream out(folder / file, std::ios::binary | std::ios::trunc);
   out.write(pcd.data(), static_cast<std::streamsize>(pcd.size()));
   out.flush();
-  if (!out) throw std::runtime_error("cannot write '" + (folder / file).string() + "'");
+  if (!out) throw std::runtime_error("cannot write '" + (folder / file).string() + "'" + os_reason());
   file_bytes += recording_disk_bytes(pcd.size());
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(next_cloud->stamp.time_since_epoch()).count();
   clouds_csv << frames << ',' << ns << ',' << file << '\n';
   clouds_csv.flush();
-  if (!clouds_csv) throw std::runtime_error("cannot append to '" + path.string() + "'");
+  if (!clouds_csv) throw std::runtime_error("cannot append to '" + path.string() + "'" + os_reason());
   next_cloud.reset();
 }
 
@@ -102,7 +111,7 @@ void RecordingWriter::Impl::write_joints() {
     joints_csv << frames << ',' << name << ',' << position << '\n';
   }
   joints_csv.flush();
-  if (!joints_csv) throw std::runtime_error("cannot append to '" + path.string() + "'");
+  if (!joints_csv) throw std::runtime_error("cannot append to '" + path.string() + "'" + os_reason());
   next_joints.clear();
 }
 
@@ -123,10 +132,11 @@ std::string iso_utc_now() {
 }
 
 void write_file(const fs::path& path, const void* data, size_t size) {
+  errno = 0;  // what a failure below leaves is its own reason
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
   out.flush();
-  if (!out) throw std::runtime_error("cannot write '" + path.string() + "'");
+  if (!out) throw std::runtime_error("cannot write '" + path.string() + "'" + os_reason());
 }
 
 std::string extension_of(const std::string& format) {
@@ -178,7 +188,7 @@ void RecordingWriter::Impl::start(const Rig& rig) {
   for (const auto& name : camera_names) csv << ',' << name;
   csv << '\n';
   csv.flush();
-  if (!csv) throw std::runtime_error("cannot write '" + (folder / "frames.csv").string() + "'");
+  if (!csv) throw std::runtime_error("cannot write '" + (folder / "frames.csv").string() + "'" + os_reason());
 }
 
 size_t RecordingWriter::Impl::rig_index_for(const Rig& rig) {
@@ -215,11 +225,12 @@ void RecordingWriter::write(uint64_t sequence, std::chrono::system_clock::time_p
   if (!impl_->next_joints.empty()) impl_->write_joints();
   if (impl_->next_cloud) impl_->write_cloud();
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(capture_time.time_since_epoch()).count();
+  errno = 0;
   impl_->csv << sequence << ',' << ns << ',' << rig_index;
   for (const auto& file : files) impl_->csv << ',' << file;
   impl_->csv << '\n';
   impl_->csv.flush();
-  if (!impl_->csv) throw std::runtime_error("cannot append to '" + (impl_->folder / "frames.csv").string() + "'");
+  if (!impl_->csv) throw std::runtime_error("cannot append to '" + (impl_->folder / "frames.csv").string() + "'" + os_reason());
   ++impl_->frames;
 }
 

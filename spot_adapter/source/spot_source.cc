@@ -401,21 +401,23 @@ std::chrono::milliseconds SpotSource::on_error(const SpotError& e) {
   const bool answered = e.kind() == SpotError::Kind::kProtocol ||
                         (e.kind() == SpotError::Kind::kUnreachable && e.code() != grpc::StatusCode::DEADLINE_EXCEEDED &&
                          e.code() != grpc::StatusCode::CANCELLED && channels_.any_connected());
-  bool changed;
   {
     std::lock_guard lock(mutex_);
     ++health_.errors;
     count_outcome(true);
-    changed = health_.message != message;
     // One failed call among good ones leaves the robot connected (degraded); a robot that
     // stopped answering, or a session being repaired, is not.
     if (answered) last_answer_ = Clock::now();
     health_.connected = session_.connected() && Clock::now() - last_answer_ < kConnectedWindow;
     health_.message = message;
   }
-  if (changed || Clock::now() - last_error_log_ > kErrorLogInterval) {
+  // Against the last one logged, not the health's message: an idle source resets that to
+  // its connect note every second, and a robot gone while nobody watched was logged twice
+  // a second for as long as it stayed away.
+  if (message != last_logged_error_ || Clock::now() - last_error_log_ > kErrorLogInterval) {
     log(to_string(settings_.address) + ": " + message);
     last_error_log_ = Clock::now();
+    last_logged_error_ = message;
   }
   return pause;
 }
@@ -465,6 +467,7 @@ void SpotSource::run() {
         finish_call(*call);
         if (failures_ > 0) log("images flowing again after " + std::to_string(failures_) + " failed attempt(s)");
         failures_ = 0;
+        last_logged_error_.clear();  // a failure after this is news again
       }
     } catch (const SpotError& e) {
       calls_.cancel_all();  // their answers would come from a session that is being repaired

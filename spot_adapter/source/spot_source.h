@@ -93,6 +93,7 @@ class SpotSource : public Source {
   // connected while they keep coming within kConnectedWindow (then "degraded", not "NO").
   std::chrono::steady_clock::time_point last_answer_;
   std::chrono::steady_clock::time_point last_error_log_;
+  std::string last_logged_error_;  // the same failure again is logged every kErrorLogInterval only
   std::chrono::steady_clock::time_point last_rig_change_;
   std::chrono::steady_clock::time_point last_channel_reset_;
   std::chrono::steady_clock::time_point last_depth_call_;  // the last image call that asked for depth

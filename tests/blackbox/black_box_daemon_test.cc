@@ -166,6 +166,10 @@ TEST(BlackBoxDaemon, AKillMidWriteLosesAtMostTheLastSecondAndTheRingServesOnAfte
   EXPECT_GE(s.blackbox(0).frame_sets(), kept);
   EXPECT_GT(s.blackbox(0).span_s(), 1.0);
   EXPECT_NE(again.log().find("black box: 'examples': kept"), std::string::npos) << again.log();
+  // Killed, the last run left its ring open: saved at once, before new frame sets push it out.
+  EXPECT_NE(again.log().find("stopped without closing its black box"), std::string::npos) << again.log();
+  ASSERT_NE(s.blackbox(0).last_snapshot().find("examples-crash-"), std::string::npos) << s.DebugString();
+  EXPECT_GE(Recording::open(s.blackbox(0).last_snapshot()).frames.size(), kept);
   const std::string status_text = run_process(std::string(OMNIVIEW_CLI) + " status --server " + again.address()).output;
   EXPECT_NE(status_text.find("black box"), std::string::npos) << status_text;
 
