@@ -286,6 +286,29 @@ TEST_F(Export, FfmpegDecodesAViewsFramesConcatenated) {
   EXPECT_EQ(decode.output.find_first_not_of(" \n"), std::string::npos) << "ffmpeg complained:\n" << decode.output;
 }
 
+// The README's picture of an export (tests/export/mcap_picture.cc) from this export: every
+// topic on its timeline, the views decoded.
+TEST_F(Export, ThePictureToolShowsTheViewsAndEveryTopic) {
+  exported("h264.mcap");
+  const std::string picture = out("picture.jpg");
+  const auto run = run_process(std::string(MCAP_PICTURE) + " " + out("h264.mcap") + " " + picture + " 2>&1");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::ifstream in(picture, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const cv::Mat image = decode_image(bytes);
+  ASSERT_FALSE(image.empty());
+  EXPECT_EQ(image.cols, 1400);
+  // The views' pictures are there: the area under the first title is not the background.
+  cv::Mat grey;
+  cv::cvtColor(image(cv::Rect(20, 70, 200, 200)), grey, cv::COLOR_BGR2GRAY);
+  cv::Scalar mean, deviation;
+  cv::meanStdDev(grey, mean, deviation);
+  EXPECT_GT(deviation[0], 5) << "a flat area where the first view should be";
+  const auto bad = run_process(std::string(MCAP_PICTURE) + " " + out("no-such.mcap") + " " + picture + " 2>&1");
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find("no-such.mcap"), std::string::npos) << bad.output;
+}
+
 TEST_F(Export, JpegViewsAreCompressedImages) {
   const auto& m = exported("jpeg.mcap", "--encoding jpeg --quality 80 --no-clouds");
   ASSERT_TRUE(m.complete) << m.why;
