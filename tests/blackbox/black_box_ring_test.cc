@@ -89,7 +89,9 @@ TEST_F(BlackBoxRingTest, StaysWithinItsBudgetAtEveryWriteDroppingTheOldestFirst)
   for (int i = 0; i < 400; ++i) {  // 40 s at 10 Hz: ~40 MB through an 8 MB ring
     ASSERT_TRUE(ring.write(robot_frames(rig_, i, t0_ + i * 100ms)));
     ASSERT_LE(ring.bytes(), options.max_bytes) << "frame set " << i;
-    if (i % 50 == 0) ASSERT_LE(du_bytes(ring.folder()), options.max_bytes) << "frame set " << i;
+    if (i % 50 == 0) {
+      ASSERT_LE(du_bytes(ring.folder()), options.max_bytes) << "frame set " << i;
+    }
   }
   ring.seal();
   EXPECT_LE(du_bytes(ring.folder()), options.max_bytes);
