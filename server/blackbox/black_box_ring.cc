@@ -11,6 +11,9 @@ using SystemClock = std::chrono::system_clock;
 
 namespace {
 
+// Below this, a failed write teaches the ring nothing about the disk (a vanished folder).
+constexpr uint64_t kMinLearnedBudget = uint64_t{1} << 20;
+
 std::string segment_name(SystemClock::time_point first) {
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(first.time_since_epoch()).count();
   char name[32];
@@ -59,7 +62,8 @@ uint64_t folder_disk_bytes(const fs::path& folder) {
 
 BlackBoxRing::BlackBoxRing(fs::path folder, std::string source, BlackBoxRingOptions options,
                            std::function<void(const std::string&)> log)
-    : folder_(std::move(folder)), source_(std::move(source)), options_(options), log_(std::move(log)) {
+    : folder_(std::move(folder)), source_(std::move(source)), options_(options), log_(std::move(log)),
+      budget_(options.max_bytes) {
   std::error_code ec;
   fs::create_directories(folder_, ec);
   if (ec) throw std::runtime_error("cannot create the black box folder '" + folder_.string() + "': " + ec.message());
@@ -139,7 +143,7 @@ void BlackBoxRing::make_room(uint64_t bytes, SystemClock::time_point now) {
   const size_t open = writer_ ? 1 : 0;  // the segment being written stays
   while (segments_.size() > open && segments_.front().last < now - options_.span) drop_oldest();
   // ...and within the budget, the oldest first.
-  while (!segments_.empty() && this->bytes() + bytes > options_.max_bytes) drop_oldest();
+  while (!segments_.empty() && this->bytes() + bytes > budget_) drop_oldest();
 }
 
 void BlackBoxRing::start_segment(SystemClock::time_point first) {
@@ -164,6 +168,7 @@ bool BlackBoxRing::write(const FrameSet& frames) {
     }
   }
   make_room(expected + (writer_ ? 0 : 3 * 4096), frames.capture_time);
+  const bool fresh = !writer_;
   try {
     if (!writer_) start_segment(frames.capture_time);
     writer_->write(frames);
@@ -171,9 +176,22 @@ bool BlackBoxRing::write(const FrameSet& frames) {
     // The segment keeps what it wrote up to its last complete line; the next write starts
     // a new one. A disk with less room than max_bytes fills before the budget does: the
     // oldest segment goes now, so the ring keeps turning within the room there is.
+    // A fresh segment that failed (its first files did not fit) is gone with the seal: the
+    // oldest goes then even when it is the only one left, or a disk smaller than a segment
+    // would keep its first seconds for good.
     try {
+      // The disk is fuller than the budget said (other files, a small card): the ring
+      // keeps to what it held, less a tenth, from now on, in segments an eighth of that.
+      const uint64_t held = bytes();
+      if (held >= kMinLearnedBudget && held * 9 / 10 < budget_) {
+        budget_ = held * 9 / 10;
+        if (log_) {
+          log_("the disk filled at " + std::to_string(held >> 20) + " MiB, before max_bytes: the ring keeps to " +
+               std::to_string(budget_ >> 20) + " MiB from now on");
+        }
+      }
       seal();
-      if (segments_.size() > 1) drop_oldest();
+      if (segments_.size() > 1 || (fresh && !segments_.empty())) drop_oldest();
     } catch (...) {
     }
     throw;

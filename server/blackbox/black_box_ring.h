@@ -72,7 +72,10 @@ class BlackBoxRing {
   // dropping the oldest drops a tenth at a time and the ring keeps its span to that.
   std::chrono::milliseconds segment_length() const;
   // The most bytes one segment holds: an eighth of the budget.
-  uint64_t segment_bytes() const { return options_.max_bytes / 8; }
+  uint64_t segment_bytes() const { return budget_ / 8; }
+  // max_bytes, or less once the disk filled before the ring did (what it held then, less a
+  // tenth): the ring then keeps turning in whole segments within the room there is.
+  uint64_t budget() const { return budget_; }
 
  private:
   void start_segment(std::chrono::system_clock::time_point first);
@@ -83,6 +86,7 @@ class BlackBoxRing {
   const std::string source_;
   const BlackBoxRingOptions options_;
   std::function<void(const std::string&)> log_;
+  uint64_t budget_ = 0;
   std::deque<RingSegment> segments_;     // oldest first; the back one is being written while writer_ is set
   std::unique_ptr<RecordingWriter> writer_;
 };

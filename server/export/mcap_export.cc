@@ -144,6 +144,15 @@ class Exporter {
     out_->close();
     summary_.frame_sets = total;
     summary_.messages = out_->counts();
+    // A view no frame set could render (a black box snapshot of a robot whose views needed
+    // other cameras) has no topic at all: said, so nobody looks for it in Foxglove.
+    for (const auto& v : views_) {
+      const std::string topic = "/views/" + v->spec.name;
+      if (summary_.messages.count(topic) && summary_.messages.at(topic) > 0) continue;
+      summary_.notes.push_back("view '" + v->spec.name + "': no frame set had every camera it needs, so the file has no " +
+                               topic + " (a recording keeps the cameras the watched views used; `omniview record` "
+                               "takes every camera)");
+    }
     summary_.bytes = out_->bytes();
     return summary_;
   }
