@@ -379,7 +379,13 @@ TEST(SpotSource, PullsOnlyTheCamerasWatchedViewsNeed) {
         return calls == before;
       },
       10s))
-      << "images still pulled with nobody watching";
+      << "images still pulled with nobody watching; the daemon's status (who still watches):\n"
+      << [&] {
+           v1::Status st;
+           stub->GetStatus(make_context().get(), v1::GetStatusRequest(), &st);
+           return st.DebugString();
+         }()
+      << daemon.log();
   std::this_thread::sleep_for(1s);
   EXPECT_EQ(mock_control(mock, "--counters").at("get_image_calls"), calls);
 }
