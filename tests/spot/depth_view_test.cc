@@ -335,8 +335,13 @@ TEST_F(DepthViews, AViewWatchedAgainDropsItsOldGeometry) {
     ASSERT_TRUE(eventually_within([&] { return measured.get().measured_depth() > 0.2; }, 30s)) << daemon_->log();
   }
   std::this_thread::sleep_for(4s);
+  // Unwatched, the view keeps the geometry of the last time (at least 4 s old now) or none
+  // at all (-1): the lidar may have gone quiet past kFreshGeometry before the stream's end
+  // reached the daemon (a sanitizer build's GetImage deadlines), or a new rig rebuilt the
+  // map meanwhile. Never fresh geometry: nobody asks for it.
   const v1::ViewStatus unwatched = view_status("measured");
-  EXPECT_GE(unwatched.depth_geometry_age_s(), 4);
+  const double unwatched_age = unwatched.depth_geometry_age_s();
+  EXPECT_TRUE(unwatched_age < 0 || unwatched_age >= 4) << "geometry " << unwatched_age << " s old, unwatched";
   EXPECT_NE(unwatched.depth_message().find("not watched"), std::string::npos) << unwatched.depth_message();
   const auto watched_again = std::chrono::steady_clock::now();
   LatestFrame again(*stub_, "measured");
