@@ -133,6 +133,9 @@ int main(int argc, char** argv) {
     if (!daemon.web_url().empty()) {
       std::cerr << "omniviewd: console and Foxglove WebSocket on " << daemon.web_url()
                 << (config.tokens.empty() ? "" : " (tokens required)") << std::endl;
+      if (const std::string whep = daemon.whep_summary(); !whep.empty()) {
+        std::cerr << "omniviewd: WebRTC (WHEP): " << whep << std::endl;
+      }
     }
     if (config.blackbox) {
       std::cerr << "omniviewd: black box: the last " << config.blackbox->minutes << " min of each source (at most "

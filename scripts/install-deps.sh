@@ -17,6 +17,9 @@ packages=(
   ffmpeg           # ffmpeg, ffprobe: the video tests read the CLI's H.264 pipe, RTSP and the Foxglove video channel as players do
   libgstrtspserver-1.0-dev libgstreamer-plugins-base1.0-dev  # RTSP (server/rtsp): the server library, appsrc
   gstreamer1.0-plugins-good gstreamer1.0-plugins-bad         # ... rtph264pay, h264parse
+  libgstreamer-plugins-bad1.0-dev gstreamer1.0-nice  # WebRTC (server/webrtc): webrtcbin and its ICE (libnice)
+  python3-aiortc  # tests/webrtc: an independent WebRTC stack (Python's aiortc, decoding with PyAV) as a WHEP viewer
+  iptables        # bench/webrtc_loss.sh: random packet loss between two network namespaces
   libboost-dev  # Boost.Beast and Asio (header-only): omniviewd's HTTP + WebSocket endpoint (server/web)
   nlohmann-json3-dev  # the web endpoint's client JSON (server/web/json)
   libjs-three   # three.js, served to the console's 3D cloud panel from /usr/share/javascript

@@ -65,6 +65,20 @@ struct Limits {
 
 // `web:` — the HTTP + WebSocket endpoint (server/web): the operator console and the
 // Foxglove WebSocket protocol, with the gRPC API's TLS certificate and tokens.
+// `web.webrtc:` — the views over WebRTC (WHEP: POST /whep/VIEW) on the web port
+// (server/webrtc). Media flows over UDP between the viewer and the daemon (ICE).
+struct WebRtcConfig {
+  bool enabled = true;
+  std::string stun_server;  // "stun://host:port": a server-reflexive candidate for NATs (empty: none)
+  std::string turn_server;  // "turn://user:password@host:port": a relay where UDP cannot pass (empty: none)
+  int min_udp_port = 0;     // udp_ports "MIN-MAX": the media's ports, for a firewall (0: any)
+  int max_udp_port = 0;
+  int max_sessions = 16;    // viewers at once, in all and from one address
+  int max_sessions_per_client = 4;
+  int quality = 0;          // as StreamFramesRequest.quality for H264 (0: default)
+  int max_bitrate_kbps = 0; // as StreamFramesRequest.max_bitrate_kbps (0: none)
+};
+
 struct WebConfig {
   bool enabled = false;
   std::string listen = "127.0.0.1:8765";  // host:port (8765: what Foxglove clients try first)
@@ -76,6 +90,7 @@ struct WebConfig {
   int max_message_bytes = 64 << 10;       // largest message a client may send
   int max_pending_bytes = 16 << 20;       // unsent replies to one client before it is dropped
   YAML::Node listen_node;                 // for errors found at start (address in use)
+  WebRtcConfig webrtc;
 };
 
 struct SourceEntry {

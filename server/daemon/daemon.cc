@@ -181,6 +181,7 @@ std::vector<std::string> Daemon::rtsp_urls() const { return rtsp_ ? rtsp_->urls(
 Daemon::~Daemon() { shutdown(); }
 
 std::string Daemon::web_url() const { return web_ ? web_->url() : ""; }
+std::string Daemon::whep_summary() const { return web_ ? web_->whep_summary() : ""; }
 std::string Daemon::web_address() const { return web_ ? web_->address() : ""; }
 
 void Daemon::shutdown(std::chrono::milliseconds grace) {

@@ -34,6 +34,7 @@ class Daemon {
   const std::string& address() const { return address_; }
   // The web endpoint's console URL ("http://127.0.0.1:8765/"); empty when `web` is off.
   std::string web_url() const;
+  std::string whep_summary() const;  // WebServer::whep_summary, empty without a web port
   // Its host:port; empty when off.
   std::string web_address() const;
   Pipeline& pipeline() { return *pipeline_; }

@@ -68,6 +68,12 @@ WebServer::WebServer(const DaemonConfig& config, Pipeline& pipeline, const Authe
                  std::cerr << "omniviewd: web: " << peer << " (" << protocol << ") authenticated with "
                            << caller.label << " (" << to_string(caller.role) << ")" << std::endl;
                }} {
+  if (config_.webrtc.enabled) {
+    whep_ = std::make_unique<webrtc::WhepServer>(config_.webrtc, limits_, pipeline);
+    if (!whep_->unavailable().empty()) {
+      std::cerr << "omniviewd: web: WebRTC (WHEP) is off: " << whep_->unavailable() << std::endl;
+    }
+  }
   ws_limits_.max_message_bytes = static_cast<size_t>(config_.max_message_bytes);
   ws_limits_.max_pending_bytes = static_cast<size_t>(config_.max_pending_bytes);
   console_dir_ = find_console_dir(config_);
@@ -221,6 +227,96 @@ UpgradeDecision WebServer::upgrade(const Request& request, const std::string& pe
     return std::make_unique<FoxgloveProtocol>(connection, context_, who);
   };
   return d;
+}
+
+std::string WebServer::whep_summary() const {
+  if (!whep_) return "";
+  if (!whep_->unavailable().empty()) return "off: " + whep_->unavailable();
+  return "POST " + url() + "whep/VIEW (UDP media" +
+         (config_.webrtc.min_udp_port ? " on ports " + std::to_string(config_.webrtc.min_udp_port) + "-" +
+                                            std::to_string(config_.webrtc.max_udp_port)
+                                      : std::string()) +
+         ")";
+}
+
+// WHEP: POST /whep/VIEW (an offer), DELETE /whep/VIEW/ID (the session's Location), OPTIONS
+// on either; PATCH (trickle ICE, ICE restart) is not served: the answer holds every
+// candidate, and a viewer restarts by DELETE and a new POST.
+bool WebServer::route(const Request& request, const std::string& peer, std::function<void(RouteReply)> done) {
+  std::string path(request.target());
+  path = path.substr(0, path.find('?'));
+  if (path != "/whep" && path.rfind("/whep/", 0) != 0) return false;
+  const std::string rest = path.size() > 6 ? path.substr(6) : "";
+  const auto slash = rest.find('/');
+  const std::string view = rest.substr(0, slash), id = slash == std::string::npos ? "" : rest.substr(slash + 1);
+  const auto reply = [&](int status, std::string text, std::vector<std::pair<std::string, std::string>> headers = {}) {
+    RouteReply r;
+    r.status = status;
+    r.body = std::move(text) + "\n";
+    r.headers = std::move(headers);
+    done(std::move(r));
+    return true;
+  };
+  namespace http = beast::http;
+  if (!whep_) return reply(404, "WebRTC is off on this daemon (web.webrtc.enabled: false)");
+  if (view.empty() || id.find('/') != std::string::npos) {
+    return reply(404, "WHEP: POST an SDP offer to /whep/VIEW (a view's name); DELETE the Location it answers");
+  }
+  const std::string allow = id.empty() ? "POST, OPTIONS" : "DELETE, OPTIONS";
+  switch (request.method()) {
+    case http::verb::options: {
+      RouteReply r;
+      r.status = 204;
+      r.headers = {{"Allow", allow}};
+      if (id.empty()) r.headers.emplace_back("Accept-Post", "application/sdp");
+      for (auto& link : whep_->ice_server_links()) r.headers.push_back(std::move(link));
+      done(std::move(r));
+      return true;
+    }
+    case http::verb::post:
+      if (!id.empty()) break;
+      [[fallthrough]];
+    case http::verb::delete_: {
+      if (request.method() == http::verb::delete_ && id.empty()) break;
+      // The same tokens as every other route: a viewer may watch (and end its session).
+      const auto header = request.find(http::field::authorization);
+      std::optional<std::string_view> authorization;
+      if (header != request.end()) authorization = std::string_view(header->value().data(), header->value().size());
+      Caller who;
+      const grpc::Status s = auth_.check_header(authorization, Role::kViewer, &who);
+      if (!s.ok()) {
+        log_refusal(peer, s.error_message());
+        return reply(s.error_code() == grpc::StatusCode::PERMISSION_DENIED ? 403 : 401,
+                     s.error_message() + " (WHEP: send 'Authorization: Bearer TOKEN')",
+                     {{"WWW-Authenticate", "Bearer"}});
+      }
+      const std::string client = peer.substr(0, peer.rfind(':'));
+      const auto type = request.find(http::field::content_type);
+      const std::string content_type = type == request.end() ? "" : std::string(type->value());
+      const bool post = request.method() == http::verb::post;
+      const std::string body = post ? request.body() : "";
+      // Off the I/O thread: the offer/answer and a session's end wait on GStreamer's threads.
+      net::post(workers_, [this, post, view, id, content_type, body, client, peer, done = std::move(done)] {
+        webrtc::HttpAnswer a;
+        try {
+          a = post ? whep_->create(view, content_type, body, client, peer) : whep_->remove(view, id);
+        } catch (const std::exception& e) {
+          std::cerr << "omniviewd: web: " << peer << ": WHEP: internal error: " << e.what() << std::endl;
+          a.status = 500;
+          a.body = "internal server error\n";
+        }
+        done(RouteReply{a.status, a.content_type, std::move(a.body), std::move(a.headers)});
+      });
+      return true;
+    }
+    default: break;
+  }
+  if (request.method() == http::verb::patch) {
+    return reply(405, "trickle ICE and ICE restarts are not served: the answer holds every candidate; to restart, "
+                      "DELETE the session and POST a new offer",
+                 {{"Allow", allow}});
+  }
+  return reply(405, "WHEP here: " + allow + " on " + path, {{"Allow", allow}});
 }
 
 void WebServer::track(const std::shared_ptr<Connection>& connection) {

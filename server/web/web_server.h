@@ -29,6 +29,7 @@
 #include "server/web/console/api_calls.h"
 #include "server/web/http/endpoint.h"
 #include "server/web/web_context.h"
+#include "server/webrtc/whep_server.h"
 
 namespace omniview::web {
 
@@ -49,7 +50,12 @@ class WebServer : public Endpoint {
   // to go, and stops. Idempotent.
   void stop(std::chrono::milliseconds grace = std::chrono::milliseconds(1000));
 
+  // The WHEP line for the start-up log ("WebRTC (WHEP): POST https://HOST:PORT/whep/VIEW"),
+  // or why WebRTC is off; empty when web.webrtc.enabled is false.
+  std::string whep_summary() const;
+
   UpgradeDecision upgrade(const Request& request, const std::string& peer) override;
+  bool route(const Request& request, const std::string& peer, std::function<void(RouteReply)> done) override;
   const StaticFiles& files() const override { return *files_; }
   WsLimits ws_limits() const override { return ws_limits_; }
 
@@ -73,6 +79,7 @@ class WebServer : public Endpoint {
   net::thread_pool workers_{2};
   ApiCalls calls_;
   WebContext context_;
+  std::unique_ptr<webrtc::WhepServer> whep_;  // null with web.webrtc.enabled: false
   std::atomic<int> connections_{0};
   std::mutex live_mutex_;
   std::vector<std::weak_ptr<Connection>> live_;  // WebSocket clients, to close at stop()

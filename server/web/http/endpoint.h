@@ -3,7 +3,10 @@
 // sessions stay thin.
 #pragma once
 
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <boost/beast/http.hpp>
 
@@ -21,9 +24,21 @@ struct UpgradeDecision {
   ProtocolFactory make;
 };
 
+// A reply to a plain HTTP route (WHEP): status, type, body and extra headers.
+struct RouteReply {
+  int status = 200;
+  std::string content_type = "text/plain; charset=utf-8";
+  std::string body;
+  std::vector<std::pair<std::string, std::string>> headers;
+};
+
 class Endpoint {
  public:
   virtual ~Endpoint() = default;
+  // Routes other than the files and upgrades (WHEP's /whep/...): false when `request` is
+  // not one of them; else the reply comes through `done`, later and on any thread (the
+  // work may block, so it runs off the I/O thread).
+  virtual bool route(const Request& request, const std::string& peer, std::function<void(RouteReply)> done) = 0;
   virtual UpgradeDecision upgrade(const Request& request, const std::string& peer) = 0;
   virtual const StaticFiles& files() const = 0;
   virtual WsLimits ws_limits() const = 0;

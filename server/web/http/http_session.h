@@ -49,7 +49,9 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   void read_next() {
     parser_.emplace();
     parser_->header_limit(8 << 10);
-    parser_->body_limit(endpoint_.ws_limits().max_message_bytes);
+    // A WHEP offer (a browser's is ~6 KB, every codec listed) fits even where WebSocket
+    // messages are held smaller.
+    parser_->body_limit(std::max<size_t>(endpoint_.ws_limits().max_message_bytes, 64 << 10));
     // An idle keep-alive connection gives its place back soon (web.max_connections).
     beast::get_lowest_layer(stream_).expires_after(std::chrono::seconds(15));
     http::async_read(stream_, buffer_, *parser_,
@@ -92,6 +94,21 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
                    request.version());
     }
     if (beast::websocket::is_upgrade(request)) return upgrade(std::move(request));
+    const bool keep_alive = request.keep_alive(), head = request.method() == http::verb::head;
+    const unsigned version = request.version();
+    const bool routed = endpoint_.route(request, peer_, [self = this->shared_from_this(), keep_alive, version,
+                                                        head](RouteReply r) {
+      // Back on the connection's strand: the stream is used there only.
+      net::post(self->stream_.get_executor(), [self, r = std::move(r), keep_alive, version, head]() mutable {
+        auto res = std::make_shared<Response>(static_cast<http::status>(r.status), version);
+        self->decorate(*res, r.content_type);
+        for (auto& [name, value] : r.headers) res->insert(name, value);
+        res->keep_alive(keep_alive);
+        set_body(*res, std::move(r.body), head);
+        self->send(res);
+      });
+    });
+    if (routed) return;
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
       return reply(http::status::method_not_allowed, "only GET and HEAD are served here\n", request);
     }

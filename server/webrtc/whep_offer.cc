@@ -1,0 +1,124 @@
+#include "server/webrtc/whep_offer.h"
+
+#include <gst/sdp/sdp.h>
+
+#include <memory>
+#include <set>
+#include <sstream>
+
+namespace omniview::webrtc {
+namespace {
+
+using SdpMessage = std::unique_ptr<GstSDPMessage, decltype(&gst_sdp_message_free)>;
+
+// "packetization-mode=1;profile-level-id=42e01f" -> the value of `key`, "" when absent.
+std::string fmtp_value(const std::string& fmtp, const std::string& key) {
+  std::istringstream in(fmtp);
+  std::string part;
+  while (std::getline(in, part, ';')) {
+    const auto start = part.find_first_not_of(' ');
+    if (start == std::string::npos) continue;
+    part = part.substr(start);
+    if (part.rfind(key + "=", 0) == 0) return part.substr(key.size() + 1);
+  }
+  return "";
+}
+
+// The attribute `name` of `media` for payload type `pt` ("a=fmtp:PT VALUE" -> VALUE).
+std::string payload_attribute(const GstSDPMedia* media, const char* name, int pt) {
+  const std::string prefix = std::to_string(pt) + " ";
+  for (guint i = 0; i < gst_sdp_media_attributes_len(media); ++i) {
+    const GstSDPAttribute* a = gst_sdp_media_get_attribute(media, i);
+    if (a->key == nullptr || a->value == nullptr || std::string(a->key) != name) continue;
+    const std::string value = a->value;
+    if (value.rfind(prefix, 0) == 0) return value.substr(prefix.size());
+  }
+  return "";
+}
+
+bool has_rtcp_fb(const GstSDPMedia* media, int pt, const std::string& feedback) {
+  const std::string prefix = std::to_string(pt) + " ";
+  for (guint i = 0; i < gst_sdp_media_attributes_len(media); ++i) {
+    const GstSDPAttribute* a = gst_sdp_media_get_attribute(media, i);
+    if (a->key == nullptr || a->value == nullptr || std::string(a->key) != "rtcp-fb") continue;
+    if (std::string(a->value) == prefix + feedback) return true;
+  }
+  return false;
+}
+
+// High (0x64) first, High 4:4:4 Predictive (0xf4, whose decoders take High) next.
+int profile_rank(const std::string& profile_level_id) {
+  const std::string idc = profile_level_id.substr(0, 2);
+  if (idc == "64") return 0;
+  if (idc == "f4" || idc == "F4") return 1;
+  return 2;
+}
+
+}  // namespace
+
+H264Offer read_h264_offer(const std::string& sdp) {
+  if (sdp.empty()) throw std::invalid_argument("the request has no SDP offer in its body");
+  GstSDPMessage* raw = nullptr;
+  if (gst_sdp_message_new_from_text(sdp.c_str(), &raw) != GST_SDP_OK || raw == nullptr) {
+    throw std::invalid_argument("the body is not an SDP offer");
+  }
+  const SdpMessage message(raw, &gst_sdp_message_free);
+  if (gst_sdp_message_medias_len(raw) == 0) {
+    throw std::invalid_argument("the body is not an SDP offer with media (no m= line)");
+  }
+  const GstSDPMedia* video = nullptr;
+  for (guint i = 0; i < gst_sdp_message_medias_len(raw) && video == nullptr; ++i) {
+    const GstSDPMedia* m = gst_sdp_message_get_media(raw, i);
+    if (gst_sdp_media_get_media(m) != nullptr && std::string(gst_sdp_media_get_media(m)) == "video") video = m;
+  }
+  if (video == nullptr) throw std::invalid_argument("the offer has no video m-line: a view is video only");
+  if (gst_sdp_media_get_port(video) == 0) throw std::invalid_argument("the offer's video m-line is rejected (port 0)");
+  if (gst_sdp_media_get_attribute_val(video, "sendonly") != nullptr ||
+      gst_sdp_media_get_attribute_val(video, "inactive") != nullptr) {
+    throw std::invalid_argument("the offer's video is sendonly or inactive: a WHEP viewer receives (recvonly)");
+  }
+  const char* proto = gst_sdp_media_get_proto(video);
+  if (proto == nullptr || std::string(proto).find("SAVPF") == std::string::npos) {
+    throw std::invalid_argument(std::string("the offer's video uses '") + (proto ? proto : "") +
+                                "', not WebRTC's UDP/TLS/RTP/SAVPF");
+  }
+  H264Offer best;
+  int best_rank = 3;
+  std::set<std::string> offered;
+  for (guint i = 0; i < gst_sdp_media_formats_len(video); ++i) {
+    const char* format = gst_sdp_media_get_format(video, i);
+    int pt = -1;
+    try {
+      pt = std::stoi(format ? format : "");
+    } catch (const std::exception&) {
+      continue;
+    }
+    if (pt < 0 || pt > 127) continue;
+    const std::string rtpmap = payload_attribute(video, "rtpmap", pt);
+    const std::string codec = rtpmap.substr(0, rtpmap.find('/'));
+    if (!codec.empty() && codec != "rtx" && codec != "red" && codec != "ulpfec") offered.insert(codec);
+    if (rtpmap != "H264/90000") continue;
+    const std::string fmtp = payload_attribute(video, "fmtp", pt);
+    if (fmtp_value(fmtp, "packetization-mode") != "1") continue;
+    std::string profile = fmtp_value(fmtp, "profile-level-id");
+    // Six hex digits (RFC 6184), or taken as not given: it goes into the media's caps.
+    if (profile.size() != 6 || profile.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos) profile.clear();
+    const int rank = profile_rank(profile);
+    if (rank >= best_rank) continue;
+    best_rank = rank;
+    best.payload_type = pt;
+    best.profile_level_id = profile;
+    best.nack = has_rtcp_fb(video, pt, "nack");
+  }
+  if (best_rank == 3) {
+    std::string list;
+    for (const auto& c : offered) list += (list.empty() ? "" : ", ") + c;
+    throw CodecNotOffered("the offer has no H.264 with packetization-mode=1 (offered: " +
+                          (list.empty() ? std::string("nothing") : list) +
+                          "); this daemon sends its views as H.264 only");
+  }
+  if (const char* mid = gst_sdp_media_get_attribute_val(video, "mid")) best.mid = mid;
+  return best;
+}
+
+}  // namespace omniview::webrtc

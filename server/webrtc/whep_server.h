@@ -1,0 +1,78 @@
+// WHEP (WebRTC-HTTP Egress Protocol, IETF WISH draft) on the web port: a viewer POSTs an SDP
+// offer to /whep/VIEW and gets 201 Created, the SDP answer and the session's Location;
+// DELETE on that Location ends it. The HTTP side is Beast's (server/web), the WebRTC side
+// GStreamer's webrtcbin (whep_session.h); this is the seam between them: sessions, their
+// limits, and a sweeper that frees sessions whose viewer stopped answering.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "server/config/daemon_config.h"
+#include "server/pipeline/pipeline.h"
+
+namespace omniview::webrtc {
+
+class WhepSession;
+
+// What the HTTP side sends back.
+struct HttpAnswer {
+  int status = 200;
+  std::string content_type = "text/plain; charset=utf-8";
+  std::string body;
+  std::vector<std::pair<std::string, std::string>> headers;
+};
+
+class WhepServer {
+ public:
+  // Checks that GStreamer has what WebRTC needs; where it does not, every request is
+  // answered 503 naming the missing package (the rest of the web port serves on).
+  WhepServer(const WebRtcConfig& config, const Limits& limits, Pipeline& pipeline);
+  ~WhepServer();  // ends every session
+  WhepServer(const WhepServer&) = delete;
+  WhepServer& operator=(const WhepServer&) = delete;
+
+  // Empty when WebRTC can serve; else why not (logged at start).
+  const std::string& unavailable() const { return unavailable_; }
+
+  // POST /whep/VIEW: `client` is the peer's address without its port (limits are per
+  // address). Blocks for the offer/answer (tens of milliseconds; ICE gathering at most 3 s):
+  // call it off the I/O thread.
+  HttpAnswer create(const std::string& view, const std::string& content_type, const std::string& offer,
+                    const std::string& client, const std::string& peer);
+  // DELETE /whep/VIEW/ID.
+  HttpAnswer remove(const std::string& view, const std::string& id);
+  // The ICE servers as WHEP's Link headers (to every answer and to OPTIONS).
+  std::vector<std::pair<std::string, std::string>> ice_server_links() const;
+
+  size_t sessions() const;
+
+ private:
+  struct Entry {
+    std::string view;
+    std::string client;
+    std::shared_ptr<WhepSession> session;  // shared: the sweeper checks it outside the lock
+  };
+  void sweep();  // the sweeper thread
+
+  const WebRtcConfig config_;
+  const Limits limits_;
+  Pipeline& pipeline_;
+  std::string unavailable_;
+  mutable std::mutex mutex_;
+  std::map<std::string, Entry> sessions_;         // by id
+  std::map<std::string, int> reserved_;           // per client: sessions being made or made
+  int reserved_total_ = 0;
+  bool stopping_ = false;
+  std::condition_variable wake_;
+  std::thread sweeper_;
+};
+
+}  // namespace omniview::webrtc
