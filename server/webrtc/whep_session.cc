@@ -55,7 +55,7 @@ GstWebRTCSessionDescription* negotiate_step(GstElement* webrtc, const char* sign
   }
   const GstPromiseResult result = gst_promise_wait(promise);
   const GstStructure* reply = gst_promise_get_reply(promise);
-  std::string error = result == GST_PROMISE_RESULT_REPLIED ? error_of(reply, signal) : std::string(signal) + ": no reply (promise result " + std::to_string(int(result)) + ")";
+  std::string error = result == GST_PROMISE_RESULT_REPLIED ? error_of(reply, signal) : std::string(signal) + ": no reply";
   GstWebRTCSessionDescription* answer = nullptr;
   if (error.empty() && answer_field) {
     gst_structure_get(reply, answer_field, GST_TYPE_WEBRTC_SESSION_DESCRIPTION, &answer, nullptr);
@@ -183,6 +183,7 @@ void WhepSession::build(const H264Offer& offer, const MediaSettings& settings) {
           if (self->media_error_.empty()) self->media_error_ = std::string("media failed: ") + (e ? e->message : "?");
           if (e) g_error_free(e);
         }
+        gst_message_unref(message);  // GST_BUS_DROP: the handler owns it (each holds its element)
         return GST_BUS_DROP;
       },
       this, nullptr);

@@ -1,0 +1,70 @@
+// The WHEP offer reader (server/webrtc/whep_offer.h) on real offers (Chromium's, aiortc's:
+// the fuzz corpus's seeds) and on what a viewer must not send.
+#include "server/webrtc/whep_offer.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace omniview::webrtc {
+namespace {
+
+std::string seed(const std::string& name) {
+  std::ifstream in(std::string(OMNIVIEW_SOURCE_DIR) + "/tests/fuzz/corpus/whep_offer/" + name);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(WhepOffer, ChromiumsOfferGetsTheProfileThatDecodesHighWithNack) {
+  const std::string sdp = seed("chromium_audio_video.sdp");
+  ASSERT_FALSE(sdp.empty());
+  const H264Offer offer = read_h264_offer(sdp);
+  // Chromium offers no plain High: High 4:4:4 (f4), whose decoders take High, is preferred.
+  EXPECT_EQ(offer.profile_level_id.substr(0, 2), "f4");
+  EXPECT_NE(sdp.find("a=rtpmap:" + std::to_string(offer.payload_type) + " H264/90000"), std::string::npos);
+  EXPECT_TRUE(offer.nack);
+  EXPECT_EQ(offer.mid, "0");
+}
+
+TEST(WhepOffer, AiortcsOfferGetsItsFirstH264) {
+  const H264Offer offer = read_h264_offer(seed("aiortc_video.sdp"));
+  EXPECT_EQ(offer.profile_level_id.substr(0, 2), "42");
+  EXPECT_TRUE(offer.nack);
+}
+
+TEST(WhepOffer, AProfileThatIsNotSixHexDigitsIsTakenAsNotGiven) {
+  // It would go into the media's caps: never text of the viewer's choosing.
+  const H264Offer offer = read_h264_offer(seed("odd_profile.sdp"));
+  EXPECT_EQ(offer.payload_type, 97);
+  EXPECT_EQ(offer.profile_level_id, "");
+}
+
+TEST(WhepOffer, BadOffersSayWhatIsWrong) {
+  const std::string head = "v=0\r\no=- 1 1 IN IP4 127.0.0.1\r\ns=-\r\nt=0 0\r\n";
+  const auto message = [](const std::string& sdp) -> std::string {
+    try {
+      read_h264_offer(sdp);
+    } catch (const CodecNotOffered& e) {
+      return std::string("406 ") + e.what();
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  EXPECT_EQ(message(""), "the request has no SDP offer in its body");
+  EXPECT_EQ(message(head), "the body is not an SDP offer with media (no m= line)");
+  EXPECT_EQ(message(head + "m=audio 9 UDP/TLS/RTP/SAVPF 111\r\na=rtpmap:111 opus/48000/2\r\n"),
+            "the offer has no video m-line: a view is video only");
+  EXPECT_EQ(message(head + "m=video 0 UDP/TLS/RTP/SAVPF 96\r\n"), "the offer's video m-line is rejected (port 0)");
+  EXPECT_NE(message(head + "m=video 9 UDP/TLS/RTP/SAVPF 96\r\na=sendonly\r\n").find("recvonly"), std::string::npos);
+  EXPECT_NE(message(head + "m=video 9 RTP/AVP 96\r\n").find("SAVPF"), std::string::npos);
+  EXPECT_EQ(message(head + "m=video 9 UDP/TLS/RTP/SAVPF 96 97 98\r\na=rtpmap:96 VP8/90000\r\na=rtpmap:97 "
+                           "rtx/90000\r\na=rtpmap:98 H264/90000\r\na=fmtp:98 packetization-mode=0\r\n"),
+            "406 the offer has no H.264 with packetization-mode=1 (offered: H264, VP8); this daemon sends its views "
+            "as H.264 only");
+}
+
+}  // namespace
+}  // namespace omniview::webrtc
