@@ -23,6 +23,8 @@ const app = {
   // ?encoding=jpeg: JPEG even where the browser decodes H.264 (e.g. to compare, or a
   // browser whose H.264 decoding misbehaves).
   forceJpeg: new URLSearchParams(location.search).get('encoding') === 'jpeg',
+  // ?transport=websocket: the WebSocket even where WebRTC works (to compare the two).
+  forceWebsocket: new URLSearchParams(location.search).get('transport') === 'websocket',
 };
 window.omniviewConsole = app;  // for people (the devtools) and the browser tests
 
@@ -75,7 +77,8 @@ function addPane(view) {
   const hint = app.link.role === 'viewer' ? null
     : birdseye ? 'tap: look there' : 'drag: pan/tilt · pinch/wheel: zoom · double tap: centre';
   const pane = new Pane($('panes'), app.link, view,
-    { forceJpeg: app.forceJpeg, hint, minRevision: () => (app.steering.has(view) ? app.steering.get(view).revision : 0) });
+    { forceJpeg: app.forceJpeg, forceWebsocket: app.forceWebsocket, token: sessionStorage.getItem('omniview-token'),
+      specOf: () => spec(view), hint, minRevision: () => (app.steering.has(view) ? app.steering.get(view).revision : 0) });
   attachGestures(pane.el, {
     drag: (dx, dy) => {
       if (birdseye) return;
@@ -284,6 +287,8 @@ async function main() {
   await setLayout(params.get('layout') || 'single', view && spec(view) ? view : undefined);
   pollStatus();
   setInterval(pollStatus, 1000);
+  // A page that goes ends its WebRTC sessions at once (their DELETE is sent as the page unloads).
+  window.addEventListener('pagehide', () => { for (const p of app.panes) p.stop(); });
   // Sticks and A act on the same view.
   new Gamepads((yaw, pitch, zoom) => {
     const target = steerTarget();

@@ -1,9 +1,13 @@
 // One view on screen: its live frames drawn into a canvas (letterboxed), its label, a
 // stale banner (Frame.stale), and the numbers the status line shows.
 //
-// Frames come as H.264 where the browser decodes it (WebCodecs, video.js), else as JPEG:
-// the pane falls back to JPEG by itself when H.264 is not offered, not supported, or fails.
+// Frames come over WebRTC where the browser and the link allow it (webrtc.js: RTP over UDP,
+// best on a lossy Wi-Fi), else as H.264 over the WebSocket where the browser decodes it
+// (WebCodecs, video.js), else as JPEG: the pane falls back by itself, and says why.
 import { H264Stream, h264Support } from './video.js';
+import { WhepStream, webrtcSupport } from './webrtc.js';
+
+const NOT_LIVE_MS = 1500;  // WebRTC: no new picture this long is shown as not live
 
 // A decoder that falls behind twice within this long cannot keep up at the pane's rate (a
 // busy machine, many panes): the pane asks for fewer frames instead of starting over at a
@@ -17,6 +21,9 @@ export class Pane {
   constructor(container, link, view, options = {}) {
     this.link = link;
     this.forceJpeg = !!options.forceJpeg;
+    this.forceWebsocket = !!options.forceWebsocket;
+    this.token = options.token || null;
+    this.specOf = options.specOf || (() => null);
     // The revision this console's last update of the view returned (Steering): a frame of an
     // older one was on its way before the change took effect, and is not shown.
     this.minRevision = options.minRevision || (() => 0);
@@ -31,7 +38,12 @@ export class Pane {
     this.staleEl = document.createElement('div');
     this.staleEl.className = 'stale';
     this.staleEl.hidden = true;
-    this.el.append(this.canvas, this.label, this.staleEl);
+    this.videoEl = document.createElement('video');  // WebRTC's picture
+    this.videoEl.muted = true;
+    this.videoEl.playsInline = true;
+    this.videoEl.autoplay = true;
+    this.videoEl.hidden = true;
+    this.el.append(this.canvas, this.videoEl, this.label, this.staleEl);
     if (options.hint) {
       const hint = document.createElement('div');
       hint.className = 'hint';
@@ -53,6 +65,10 @@ export class Pane {
     this.fallback = null;     // why JPEG when H.264 was not used
     this.video = null;        // H264Stream while on H.264
     this.picture = null;      // the last decoded VideoFrame (snapshots)
+    this.rtc = null;          // WhepStream while on WebRTC
+    this.rtcWhy = null;       // why not WebRTC
+    this.rtcAgeMs = null;     // WebRTC: capture to display of the newest picture
+    this.rtcStats = null;     // WebRTC: the browser's inbound-rtp stats (freezes, drops)
     this.stopped = false;
   }
 
@@ -61,6 +77,23 @@ export class Pane {
     this.fullRateHz = rateHz;
     this.behindTimes = [];   // when the decoder fell behind (resync), recent ones
     this.rateChangedAt = 0;
+    if (this.forceJpeg || this.forceWebsocket) {
+      this.rtcWhy = this.rtcWhy || 'the WebSocket asked for in the address';
+    } else {
+      const rtc = webrtcSupport();
+      if (rtc.ok) {
+        try {
+          await this.startWebrtc();
+          return;
+        } catch (e) {
+          console.warn('WebRTC of', this.view, 'not used:', e.message);
+          this.rtcWhy = e.message;
+        }
+      } else {
+        this.rtcWhy = rtc.reason;
+      }
+    }
+    if (this.stopped) return;
     const support = this.forceJpeg ? { ok: false, reason: 'forced' } : await h264Support();
     if (!support.ok) return this.subscribe('JPEG', support.reason);
     try {
@@ -69,6 +102,72 @@ export class Pane {
       console.warn('H.264 of', this.view, 'refused, JPEG instead:', e.message);
       await this.subscribe('JPEG', e.message);  // e.g. a view larger than H.264's largest picture
     }
+  }
+
+  async startWebrtc() {
+    this.encoding = 'WebRTC';
+    this.el.dataset.encoding = 'WebRTC';
+    this.canvas.hidden = true;
+    this.videoEl.hidden = false;
+    this.rtc = new WhepStream(this.view, this.token, this.videoEl, (video, meta) => this.onVideoFrame(video, meta),
+      (text) => this.showStale(text), (reason) => this.webrtcGaveUp(reason));
+    try {
+      await this.rtc.start();
+    } catch (e) {
+      this.rtc = null;
+      this.encoding = null;
+      this.canvas.hidden = false;
+      this.videoEl.hidden = true;
+      throw e;
+    }
+    this.liveTimer = setInterval(() => this.checkLive(), 500);
+  }
+
+  // A WebRTC picture shown: the pane's numbers and a header as the WebSocket's frames give
+  // (the view's spec for gestures, the capture time for the status line's latency).
+  onVideoFrame(video, meta) {
+    this.frames++;
+    const now = performance.now();
+    this.fpsWindow.push(now);
+    while (this.fpsWindow.length && this.fpsWindow[0] < now - 2000) this.fpsWindow.shift();
+    this.rtcAgeMs = meta.captureMs === null ? null : meta.displayMs - meta.captureMs;
+    this.header = {
+      camera: { spec: this.specOf() }, sequence: this.frames, stale: false,
+      captureTime: meta.captureMs === null ? null : new Date(meta.captureMs).toISOString(),
+      width: video.videoWidth, height: video.videoHeight,
+    };
+    const w = this.el.clientWidth, h = this.el.clientHeight, iw = video.videoWidth, ih = video.videoHeight;
+    const scale = Math.min(w / iw, h / ih);
+    this.rect = { x: (w - iw * scale) / 2, y: (h - ih * scale) / 2, w: iw * scale, h: ih * scale, iw, ih };
+    this.showStale(null);
+  }
+
+  checkLive() {
+    if (!this.rtc) return;
+    if (performance.now() - this.rtc.lastFrameAt > NOT_LIVE_MS && this.header) {
+      this.header.stale = true;
+      this.header.staleReason = 'no new pictures over WebRTC';
+      if (this.staleEl.hidden) this.showStale(this.header.staleReason);
+    }
+    this.rtc.stats().then((s) => {
+      if (!s) return;
+      this.rtcStats = s;
+      this.skipped = (s.framesDropped || 0);
+    }).catch(() => {});
+  }
+
+  // The daemon refused a reconnection (the view gone, its limits): H.264 over the WebSocket.
+  async webrtcGaveUp(reason) {
+    if (!this.rtc || this.stopped) return;
+    console.warn('WebRTC of', this.view, 'given up:', reason);
+    this.rtc.stop();
+    this.rtc = null;
+    clearInterval(this.liveTimer);
+    this.rtcWhy = reason;
+    this.canvas.hidden = false;
+    this.videoEl.hidden = true;
+    this.forceWebsocket = true;
+    await this.start(this.fullRateHz).catch((e) => this.showStale(e.message));
   }
 
   async subscribe(encoding, why, video = null) {
@@ -131,6 +230,9 @@ export class Pane {
     const channel = this.channel;
     this.channel = null;
     this.el.remove();
+    if (this.rtc) this.rtc.stop();
+    this.rtc = null;
+    clearInterval(this.liveTimer);
     if (this.video) this.video.close();
     if (this.picture) this.picture.close();
     this.picture = null;
@@ -149,10 +251,15 @@ export class Pane {
     this.behindTimes = [];  // that resync was ours, not the decoder's
   }
 
-  // The encoding in use, for the status line: "H264", "H264 at 9 Hz (decoder behind)", or
-  // "JPEG (why not H.264)".
+  // The encoding in use, for the status line: "WebRTC", "H264 (no WebRTC: why)", "H264 at
+  // 9 Hz (decoder behind)", or "JPEG (why not H.264)".
   encodingLabel() {
     if (!this.encoding) return '…';
+    if (this.encoding === 'WebRTC') return 'WebRTC';
+    const short = (text) => (text.length > 48 ? text.slice(0, 47) + '…' : text);
+    if (this.encoding === 'H264' && this.rtcWhy && this.rateHz >= this.fullRateHz) {
+      return `H264 over WebSocket (no WebRTC: ${short(this.rtcWhy)})`;
+    }
     if (this.encoding === 'H264' && this.rateHz < this.fullRateHz) return `H264 at ${this.rateHz} Hz (decoder behind)`;
     if (this.encoding !== 'JPEG' || !this.fallback) return this.encoding;
     // A short reason: the status line must fit a phone (the whole one is in the console log).
@@ -175,6 +282,16 @@ export class Pane {
   // The picture on screen as an image file: the JPEG/PNG as received, or the last decoded
   // video picture as PNG. Resolves with {blob, ext} or null.
   async snapshot() {
+    if (this.encoding === 'WebRTC') {
+      const v = this.videoEl;
+      if (!v.videoWidth) return null;
+      const canvas = document.createElement('canvas');
+      canvas.width = v.videoWidth;
+      canvas.height = v.videoHeight;
+      canvas.getContext('2d').drawImage(v, 0, 0);
+      const blob = await new Promise((resolve) => canvas.toBlob(resolve, 'image/png'));
+      return blob && { blob, ext: 'png' };
+    }
     if (this.encoding !== 'H264') {
       if (!this.bytes) return null;
       const png = this.header.encoding === 'PNG';
@@ -283,6 +400,7 @@ export class Pane {
   fps() { return this.fpsWindow.length < 2 ? 0 : (this.fpsWindow.length - 1) / ((this.fpsWindow.at(-1) - this.fpsWindow[0]) / 1000); }
 
   ageMs() {
+    if (this.encoding === 'WebRTC') return this.rtcAgeMs;
     if (!this.header || !this.header.captureTime) return null;
     return Date.now() - Date.parse(this.header.captureTime);
   }

@@ -46,12 +46,14 @@ bool has_rtcp_fb(const GstSDPMedia* media, int pt, const std::string& feedback) 
   return false;
 }
 
-// High (0x64) first, High 4:4:4 Predictive (0xf4, whose decoders take High) next.
+// High (0x64) first, High 4:4:4 Predictive (0xf4, whose decoders take High) next, Main
+// (0x4d) next, then any other.
 int profile_rank(const std::string& profile_level_id) {
   const std::string idc = profile_level_id.substr(0, 2);
   if (idc == "64") return 0;
   if (idc == "f4" || idc == "F4") return 1;
-  return 2;
+  if (idc == "4d" || idc == "4D") return 2;
+  return 3;
 }
 
 }  // namespace
@@ -83,7 +85,7 @@ H264Offer read_h264_offer(const std::string& sdp) {
                                 "', not WebRTC's UDP/TLS/RTP/SAVPF");
   }
   H264Offer best;
-  int best_rank = 3;
+  int best_rank = 4;
   std::set<std::string> offered;
   for (guint i = 0; i < gst_sdp_media_formats_len(video); ++i) {
     const char* format = gst_sdp_media_get_format(video, i);
@@ -94,10 +96,13 @@ H264Offer read_h264_offer(const std::string& sdp) {
       continue;
     }
     if (pt < 0 || pt > 127) continue;
+    // GStreamer's payloaders send dynamic payload types only (96-127): Chromium lists
+    // High 4:4:4 as 41, outside them.
+    const bool sendable = pt >= 96;
     const std::string rtpmap = payload_attribute(video, "rtpmap", pt);
     const std::string codec = rtpmap.substr(0, rtpmap.find('/'));
     if (!codec.empty() && codec != "rtx" && codec != "red" && codec != "ulpfec") offered.insert(codec);
-    if (rtpmap != "H264/90000") continue;
+    if (rtpmap != "H264/90000" || !sendable) continue;
     const std::string fmtp = payload_attribute(video, "fmtp", pt);
     if (fmtp_value(fmtp, "packetization-mode") != "1") continue;
     std::string profile = fmtp_value(fmtp, "profile-level-id");
@@ -110,10 +115,10 @@ H264Offer read_h264_offer(const std::string& sdp) {
     best.profile_level_id = profile;
     best.nack = has_rtcp_fb(video, pt, "nack");
   }
-  if (best_rank == 3) {
+  if (best_rank == 4) {
     std::string list;
     for (const auto& c : offered) list += (list.empty() ? "" : ", ") + c;
-    throw CodecNotOffered("the offer has no H.264 with packetization-mode=1 (offered: " +
+    throw CodecNotOffered("the offer has no H.264 with packetization-mode=1 and a dynamic payload type (offered: " +
                           (list.empty() ? std::string("nothing") : list) +
                           "); this daemon sends its views as H.264 only");
   }

@@ -111,6 +111,10 @@ WhepSession::~WhepSession() {
 void WhepSession::build(const H264Offer& offer, const MediaSettings& settings) {
   std::random_device random;
   rtp_offset_ = static_cast<uint32_t>(random());
+  // The stream's SSRC in its caps from the start: webrtcbin writes the answer's a=ssrc lines
+  // from them before any frame flows, and a browser attaches only the signalled SSRC's
+  // pictures to the track (another SSRC it decodes, and shows nothing).
+  const std::string ssrc = std::to_string(static_cast<uint32_t>(random()) | 1u);
   const std::string pt = std::to_string(offer.payload_type);
   // config-interval=0: the encoder sends SPS/PPS with every key frame already (issue 29:
   // inserting them again split key frames for some decoders). mtu 1200: room for the
@@ -126,8 +130,9 @@ void WhepSession::build(const H264Offer& offer, const MediaSettings& settings) {
       "appsrc name=src is-live=true format=time do-timestamp=false "
       "caps=video/x-h264,stream-format=byte-stream,alignment=au "
       "! rtph264pay name=pay config-interval=0 aggregate-mode=zero-latency mtu=1200 pt=" + pt +
-      " timestamp-offset=" + std::to_string(rtp_offset_) +
-      " ! application/x-rtp,media=video,encoding-name=H264,clock-rate=90000,payload=" + pt + profile +
+      " timestamp-offset=" + std::to_string(rtp_offset_) + " ssrc=" + ssrc +
+      " ! application/x-rtp,media=video,encoding-name=H264,clock-rate=90000,payload=" + pt + ",ssrc=(uint)" + ssrc +
+      profile +
       " ! webrtcbin name=webrtc bundle-policy=max-bundle";
   GError* error = nullptr;
   media_ = gst_parse_launch(description.c_str(), &error);
@@ -277,7 +282,8 @@ namespace {
 
 // The highest sequence number the viewer's receiver reports acknowledge (RTCP RR, in
 // webrtcbin's stats of the outbound stream's remote side); -1 before the first report.
-int64_t reported_sequence(const GstStructure* stats) {
+// `bye`: the viewer sent an RTCP BYE (a browser closing its peer connection does).
+int64_t reported_sequence(const GstStructure* stats, bool& bye) {
   int64_t highest = -1;
   const int n = gst_structure_n_fields(stats);
   for (int i = 0; i < n; ++i) {
@@ -292,6 +298,8 @@ int64_t reported_sequence(const GstStructure* stats) {
     const GValue* source = gst_structure_get_value(s, "gst-rtpsource-stats");
     if (source == nullptr || !GST_VALUE_HOLDS_STRUCTURE(source)) continue;
     const GstStructure* rtp = gst_value_get_structure(source);
+    gboolean received_bye = FALSE;
+    if (gst_structure_get_boolean(rtp, "received-bye", &received_bye) && received_bye) bye = true;
     gboolean have_rb = FALSE;
     guint sequence = 0;
     if (gst_structure_get_boolean(rtp, "have-rb", &have_rb) && have_rb &&
@@ -309,9 +317,11 @@ void WhepSession::check_viewer(Clock::time_point now) {
   g_signal_emit_by_name(webrtc_, "get-stats", nullptr, promise);
   const bool replied = gst_promise_wait(promise) == GST_PROMISE_RESULT_REPLIED;
   const GstStructure* stats = replied ? gst_promise_get_reply(promise) : nullptr;
-  const int64_t sequence = stats ? reported_sequence(stats) : -1;
+  bool bye = false;
+  const int64_t sequence = stats ? reported_sequence(stats, bye) : -1;
   gst_promise_unref(promise);
   std::lock_guard lock(state_mutex_);
+  viewer_said_bye_ = viewer_said_bye_ || bye;
   if (sequence != reported_sequence_) {
     reported_sequence_ = sequence;
     reported_at_ = now;
@@ -331,6 +341,7 @@ std::string WhepSession::gone(Clock::time_point now, Clock::duration connect_tim
   };
   std::lock_guard lock(state_mutex_);
   if (!media_error_.empty()) return media_error_;
+  if (viewer_said_bye_) return "the viewer left (RTCP BYE)";
   switch (ice_state_) {
     case GST_WEBRTC_ICE_CONNECTION_STATE_FAILED: return "ICE failed (the viewer is unreachable over UDP)";
     case GST_WEBRTC_ICE_CONNECTION_STATE_CLOSED: return "ICE closed";

@@ -92,6 +92,7 @@ class WhepSession {
   int64_t reported_sequence_ = -1;         // the viewer's last receiver report's highest sequence
   Clock::time_point reported_at_{};        // when it last moved
   Clock::time_point last_push_{};          // when a frame last went out
+  bool viewer_said_bye_ = false;
   std::string media_error_;
 
   std::atomic<bool> stop_{false};

@@ -98,6 +98,10 @@ class ConsoleBrowserTest(unittest.TestCase):
         if (width, height) != WINDOW:  # headless windows are at least 500 px wide: a phone is emulated
             driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
                                    {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False})
+        # These tests are of the WebSocket paths (H.264 and JPEG), which the console takes
+        # where WebRTC cannot serve; tests/webrtc/console_webrtc_test.py tests WebRTC.
+        if "transport=" not in query:
+            query += ("&" if "?" in query else "?") + "transport=websocket"
         driver.get(self.url + query + (f"#token={token}" if token else ""))
         return driver
 

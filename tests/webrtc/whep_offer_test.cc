@@ -21,8 +21,10 @@ TEST(WhepOffer, ChromiumsOfferGetsTheProfileThatDecodesHighWithNack) {
   const std::string sdp = seed("chromium_audio_video.sdp");
   ASSERT_FALSE(sdp.empty());
   const H264Offer offer = read_h264_offer(sdp);
-  // Chromium offers no plain High: High 4:4:4 (f4), whose decoders take High, is preferred.
-  EXPECT_EQ(offer.profile_level_id.substr(0, 2), "f4");
+  // Chromium offers no plain High, and High 4:4:4 only as payload type 41, which GStreamer's
+  // payloader cannot send (96-127 only): Main.
+  EXPECT_EQ(offer.profile_level_id.substr(0, 2), "4d");
+  EXPECT_GE(offer.payload_type, 96);
   EXPECT_NE(sdp.find("a=rtpmap:" + std::to_string(offer.payload_type) + " H264/90000"), std::string::npos);
   EXPECT_TRUE(offer.nack);
   EXPECT_EQ(offer.mid, "0");
@@ -62,8 +64,8 @@ TEST(WhepOffer, BadOffersSayWhatIsWrong) {
   EXPECT_NE(message(head + "m=video 9 RTP/AVP 96\r\n").find("SAVPF"), std::string::npos);
   EXPECT_EQ(message(head + "m=video 9 UDP/TLS/RTP/SAVPF 96 97 98\r\na=rtpmap:96 VP8/90000\r\na=rtpmap:97 "
                            "rtx/90000\r\na=rtpmap:98 H264/90000\r\na=fmtp:98 packetization-mode=0\r\n"),
-            "406 the offer has no H.264 with packetization-mode=1 (offered: H264, VP8); this daemon sends its views "
-            "as H.264 only");
+            "406 the offer has no H.264 with packetization-mode=1 and a dynamic payload type (offered: H264, VP8); "
+            "this daemon sends its views as H.264 only");
 }
 
 }  // namespace
