@@ -523,7 +523,7 @@ class ConsoleBrowserTest(unittest.TestCase):
 
     def test_zz_daemon_survives_a_page_closed_mid_stream(self):
         driver = browser()
-        driver.get(self.url + "?layout=split#token=" + OPERATOR_TOKEN)
+        driver.get(self.url + "?layout=split&transport=websocket#token=" + OPERATOR_TOKEN)
         self.wait_live(driver, "front")
         driver.quit()  # the browser goes, streams and all, without closing anything
         self.assertTrue(self.robot.alive())
