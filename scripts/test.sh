@@ -57,6 +57,11 @@ timing_bound+="|VideoPlayers.ANobufferPlayerShowsItsFirstPictureWithinASecondOrS
 # suppression checked against a gnutls built with TSan.
 tsan_pending="Rtsp.WithTlsItSpeaksRtspsOnAnAddressOthersReach|RtspLimits.RtspsConnectionsLeaveNothingBehindUnderTheDefaultFileLimit"
 tsan_pending+="|RtspLimits.RtspsConnectionsStuckInTheirHandshakeAreClosedWhenIdle"
+# WebRTC's media run on GStreamer's uninstrumented webrtcbin, DTLS, SRTP and libnice threads
+# (~10 per viewer); ThreadSanitizer reported races inside them in about one run in three,
+# a new library each time (tests/tsan.supp lists those seen; none had a frame of ours on
+# either stack), so these two run in the ASan tree only (where they pass), not here.
+not_instrumented="webrtc_whep|webrtc_console"
 # The exposure tests start ~110 daemons to judge listen addresses: a single-threaded check
 # at start-up, nothing for ThreadSanitizer to see: built here (CTest wants every server
 # test program), run in the ASan tree.
@@ -86,4 +91,5 @@ test_count() { ctest --test-dir "$1" -N -L "$2" | sed -n 's/^Total Tests: //p'; 
 seed_test_costs build-tsan
 stage "tsan: tests" env OMNIVIEW_THREADS=1 OMNIVIEW_TEST_TIME_SCALE=3 \
   TSAN_OPTIONS="suppressions=$PWD/tests/tsan.supp halt_on_error=1 second_deadlock_stack=1" \
-  ctest --test-dir build-tsan -L "server|tsan" --output-on-failure -j "$jobs" -E "$timing_bound|$not_threaded|$tsan_pending"
+  ctest --test-dir build-tsan -L "server|tsan" --output-on-failure -j "$jobs" \
+  -E "$timing_bound|$not_threaded|$tsan_pending|$not_instrumented"

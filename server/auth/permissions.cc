@@ -37,6 +37,9 @@ const std::vector<Permission>& all() {
       {"foxglove", Role::kViewer},
       // RTSP only plays views.
       {"rtsp", Role::kViewer},
+      // WHEP (WebRTC): a viewer watches, and ends its own session.
+      {"whep:POST", Role::kViewer},
+      {"whep:DELETE", Role::kViewer},
   };
   return table;
 }

@@ -5,6 +5,7 @@
 
 #include <boost/asio/strand.hpp>
 
+#include "server/auth/permissions.h"
 #include "server/exposure/host_port.h"
 #include "server/web/console/console_protocol.h"
 #include "server/web/foxglove/foxglove_protocol.h"
@@ -278,12 +279,14 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
       [[fallthrough]];
     case http::verb::delete_: {
       if (request.method() == http::verb::delete_ && id.empty()) break;
-      // The same tokens as every other route: a viewer may watch (and end its session).
+      // The same tokens as every other route, the role from the one table.
       const auto header = request.find(http::field::authorization);
       std::optional<std::string_view> authorization;
       if (header != request.end()) authorization = std::string_view(header->value().data(), header->value().size());
+      const bool posting = request.method() == http::verb::post;
+      const auto needed = permissions::role_for(std::string("whep:") + (posting ? "POST" : "DELETE"));
       Caller who;
-      const grpc::Status s = auth_.check_header(authorization, Role::kViewer, &who);
+      const grpc::Status s = auth_.check_header(authorization, needed.value_or(Role::kOperator), &who);
       if (!s.ok()) {
         log_refusal(peer, s.error_message());
         return reply(s.error_code() == grpc::StatusCode::PERMISSION_DENIED ? 403 : 401,

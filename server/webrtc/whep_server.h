@@ -22,6 +22,10 @@ namespace omniview::webrtc {
 
 class WhepSession;
 
+// The WHEP requests that need a token (server/auth/permissions.cc lists each one's role as
+// "whep:POST", ...).
+inline constexpr const char* kWhepRequests[] = {"POST", "DELETE"};
+
 // What the HTTP side sends back.
 struct HttpAnswer {
   int status = 200;

@@ -10,6 +10,7 @@
 
 #include "omniview/v1/omniview.pb.h"
 #include "server/web/console/console_protocol.h"
+#include "server/webrtc/whep_server.h"
 
 namespace omniview::testing {
 namespace {
@@ -46,12 +47,15 @@ TEST(Permissions, WhatChangesTheRobotsViewsIsAnOperatorsTheRestAViewers) {
   }
 }
 
-TEST(Permissions, EveryConsoleOpFoxgloveAndRtspAreListed) {
+TEST(Permissions, EveryConsoleOpFoxgloveRtspAndWhepRequestAreListed) {
   for (const char* op : web::kConsoleOps) {
     EXPECT_TRUE(permissions::role_for(std::string("console:") + op).has_value()) << op;
   }
   EXPECT_TRUE(permissions::role_for("foxglove").has_value());
   EXPECT_TRUE(permissions::role_for("rtsp").has_value());
+  for (const char* request : webrtc::kWhepRequests) {
+    EXPECT_TRUE(permissions::role_for(std::string("whep:") + request).has_value()) << request;
+  }
   std::set<std::string> ops(std::begin(web::kConsoleOps), std::end(web::kConsoleOps));
   for (const auto& p : permissions::all()) {
     if (p.request.substr(0, 8) == "console:") {
