@@ -243,7 +243,7 @@ std::string WebServer::whep_summary() const {
 // WHEP: POST /whep/VIEW (an offer), DELETE /whep/VIEW/ID (the session's Location), OPTIONS
 // on either; PATCH (trickle ICE, ICE restart) is not served: the answer holds every
 // candidate, and a viewer restarts by DELETE and a new POST.
-bool WebServer::route(const Request& request, const std::string& peer, std::function<void(RouteReply)> done) {
+bool WebServer::route(const Request& request, const std::string& peer, std::function<void(HttpReply)> done) {
   std::string path(request.target());
   path = path.substr(0, path.find('?'));
   if (path != "/whep" && path.rfind("/whep/", 0) != 0) return false;
@@ -251,7 +251,7 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
   const auto slash = rest.find('/');
   const std::string view = rest.substr(0, slash), id = slash == std::string::npos ? "" : rest.substr(slash + 1);
   const auto reply = [&](int status, std::string text, std::vector<std::pair<std::string, std::string>> headers = {}) {
-    RouteReply r;
+    HttpReply r;
     r.status = status;
     r.body = std::move(text) + "\n";
     r.headers = std::move(headers);
@@ -266,7 +266,7 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
   const std::string allow = id.empty() ? "POST, OPTIONS" : "DELETE, OPTIONS";
   switch (request.method()) {
     case http::verb::options: {
-      RouteReply r;
+      HttpReply r;
       r.status = 204;
       r.headers = {{"Allow", allow}};
       if (id.empty()) r.headers.emplace_back("Accept-Post", "application/sdp");
@@ -300,7 +300,7 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
       const std::string body = post ? request.body() : "";
       // Off the I/O thread: the offer/answer and a session's end wait on GStreamer's threads.
       net::post(workers_, [this, post, view, id, content_type, body, client, peer, done = std::move(done)] {
-        webrtc::HttpAnswer a;
+        HttpReply a;
         try {
           a = post ? whep_->create(view, content_type, body, client, peer) : whep_->remove(view, id);
         } catch (const std::exception& e) {
@@ -308,7 +308,7 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
           a.status = 500;
           a.body = "internal server error\n";
         }
-        done(RouteReply{a.status, a.content_type, std::move(a.body), std::move(a.headers)});
+        done(std::move(a));
       });
       return true;
     }

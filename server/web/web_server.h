@@ -55,7 +55,7 @@ class WebServer : public Endpoint {
   std::string whep_summary() const;
 
   UpgradeDecision upgrade(const Request& request, const std::string& peer) override;
-  bool route(const Request& request, const std::string& peer, std::function<void(RouteReply)> done) override;
+  bool route(const Request& request, const std::string& peer, std::function<void(HttpReply)> done) override;
   const StaticFiles& files() const override { return *files_; }
   WsLimits ws_limits() const override { return ws_limits_; }
 

@@ -53,8 +53,8 @@ std::string new_session_id() {
   return id;  // 128 random bits: not guessable from another session's
 }
 
-HttpAnswer text(int status, std::string body) {
-  HttpAnswer a;
+HttpReply text(int status, std::string body) {
+  HttpReply a;
   a.status = status;
   a.body = std::move(body) + "\n";
   return a;
@@ -105,7 +105,7 @@ std::vector<std::pair<std::string, std::string>> WhepServer::ice_server_links() 
   return links;
 }
 
-HttpAnswer WhepServer::create(const std::string& view, const std::string& content_type, const std::string& offer,
+HttpReply WhepServer::create(const std::string& view, const std::string& content_type, const std::string& offer,
                               const std::string& client, const std::string& peer) {
   if (!unavailable_.empty()) return text(503, "WebRTC is not available on this daemon: " + unavailable_);
   const std::string type = content_type.substr(0, content_type.find(';'));
@@ -163,7 +163,7 @@ HttpAnswer WhepServer::create(const std::string& view, const std::string& conten
     return text(500, e.what());
   }
   const std::string id = new_session_id();
-  HttpAnswer a;
+  HttpReply a;
   a.status = 201;
   a.content_type = "application/sdp";
   a.body = session->answer_sdp();
@@ -186,7 +186,7 @@ HttpAnswer WhepServer::create(const std::string& view, const std::string& conten
   return a;
 }
 
-HttpAnswer WhepServer::remove(const std::string& view, const std::string& id) {
+HttpReply WhepServer::remove(const std::string& view, const std::string& id) {
   std::shared_ptr<WhepSession> ending;
   {
     std::lock_guard lock(mutex_);

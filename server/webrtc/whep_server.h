@@ -17,6 +17,7 @@
 
 #include "server/config/daemon_config.h"
 #include "server/pipeline/pipeline.h"
+#include "server/web/http/http_reply.h"
 
 namespace omniview::webrtc {
 
@@ -26,13 +27,7 @@ class WhepSession;
 // "whep:POST", ...).
 inline constexpr const char* kWhepRequests[] = {"POST", "DELETE"};
 
-// What the HTTP side sends back.
-struct HttpAnswer {
-  int status = 200;
-  std::string content_type = "text/plain; charset=utf-8";
-  std::string body;
-  std::vector<std::pair<std::string, std::string>> headers;
-};
+using web::HttpReply;
 
 class WhepServer {
  public:
@@ -49,10 +44,10 @@ class WhepServer {
   // POST /whep/VIEW: `client` is the peer's address without its port (limits are per
   // address). Blocks for the offer/answer (tens of milliseconds; ICE gathering at most 3 s):
   // call it off the I/O thread.
-  HttpAnswer create(const std::string& view, const std::string& content_type, const std::string& offer,
+  HttpReply create(const std::string& view, const std::string& content_type, const std::string& offer,
                     const std::string& client, const std::string& peer);
   // DELETE /whep/VIEW/ID.
-  HttpAnswer remove(const std::string& view, const std::string& id);
+  HttpReply remove(const std::string& view, const std::string& id);
   // The ICE servers as WHEP's Link headers (to every answer and to OPTIONS).
   std::vector<std::pair<std::string, std::string>> ice_server_links() const;
 

@@ -10,6 +10,7 @@
 
 #include <boost/beast/http.hpp>
 
+#include "server/web/http/http_reply.h"
 #include "server/web/http/static_files.h"
 #include "server/web/ws/ws_session.h"
 
@@ -24,21 +25,13 @@ struct UpgradeDecision {
   ProtocolFactory make;
 };
 
-// A reply to a plain HTTP route (WHEP): status, type, body and extra headers.
-struct RouteReply {
-  int status = 200;
-  std::string content_type = "text/plain; charset=utf-8";
-  std::string body;
-  std::vector<std::pair<std::string, std::string>> headers;
-};
-
 class Endpoint {
  public:
   virtual ~Endpoint() = default;
   // Routes other than the files and upgrades (WHEP's /whep/...): false when `request` is
   // not one of them; else the reply comes through `done`, later and on any thread (the
   // work may block, so it runs off the I/O thread).
-  virtual bool route(const Request& request, const std::string& peer, std::function<void(RouteReply)> done) = 0;
+  virtual bool route(const Request& request, const std::string& peer, std::function<void(HttpReply)> done) = 0;
   virtual UpgradeDecision upgrade(const Request& request, const std::string& peer) = 0;
   virtual const StaticFiles& files() const = 0;
   virtual WsLimits ws_limits() const = 0;

@@ -97,7 +97,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
     const bool keep_alive = request.keep_alive(), head = request.method() == http::verb::head;
     const unsigned version = request.version();
     const bool routed = endpoint_.route(request, peer_, [self = this->shared_from_this(), keep_alive, version,
-                                                        head](RouteReply r) {
+                                                        head](HttpReply r) {
       // Back on the connection's strand: the stream is used there only.
       net::post(self->stream_.get_executor(), [self, r = std::move(r), keep_alive, version, head]() mutable {
         auto res = std::make_shared<Response>(static_cast<http::status>(r.status), version);
