@@ -22,6 +22,7 @@ import urllib.request
 from pathlib import Path
 
 from aiortc import RTCPeerConnection, RTCSessionDescription
+from aiortc.mediastreams import MediaStreamError
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "web"))
@@ -45,7 +46,10 @@ async def viewer(url, token, counts, index, stop):
     def on_track(track):
         async def read():
             while not stop.is_set():
-                await track.recv()
+                try:
+                    await track.recv()
+                except MediaStreamError:  # the connection closed at the end
+                    return
                 counts[index] += 1
         asyncio.ensure_future(read())
 
