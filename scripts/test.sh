@@ -47,6 +47,9 @@ timing_bound+="|H264Stream.AddsLessThanAFrameIntervalOfLatencyOverJpeg|H264Strea
 # (256 MB) and its shadow grows with every allocation, so only a release build measures it.
 timing_bound+="|RtspLimits.FloodsOfParallelDescribesAreCappedAndGiveTheirMemoryBack"
 timing_bound+="|RtspLimits.RtspsConnectionsStuckInTheirHandshakeGiveTheirMemoryBack"
+# A cloud reader's rate beside six stalled ones (> 0.6 of its rate alone): under TSan at the
+# start of its test stage (the slowest test, both cores busy) it read 3.33/s against 3.47.
+timing_bound+="|CloudApi.AStalledClientSlowsNobodyAndCloudsStopWithTheLastWatcher"
 # A DESCRIBE of a streaming view within 150 ms (it takes the view's newest key frame).
 timing_bound+="|RtspLimits.JoiningAStreamingViewNeedsNoNewKeyFrame"
 # A player's first picture within 2 s of joining: a latency of the release build (TSan's
