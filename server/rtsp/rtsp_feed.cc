@@ -57,19 +57,35 @@ bool RtspFeed::wanted(const v1::Frame& frame) {
     prerolled_ = frame.key_frame();
     return prerolled_;
   }
-  const auto ask_key_frame = [&] {
-    if (subscriber_->video()) subscriber_->video()->request_key_frame();
-  };
-  if (play_started_.exchange(false)) {
-    awaiting_key_ = true;
-    keys_since_play_ = 0;
-    ask_key_frame();
-  }
+  look_at_play();
   if (!playing_) return false;
   if (awaiting_key_ && !frame.key_frame()) return false;  // it depends on frames the client did not get
   awaiting_key_ = false;
   if (frame.key_frame() && ++keys_since_play_ == 1) ask_key_frame();
   return true;
+}
+
+// Feed thread, for every frame and every empty wait: a PLAY since the last look starts the
+// wait for a key frame. While it lasts the ask is repeated at the group's key frame pace: a
+// key frame asked for may go to the others only (one encoded for a frame rendered before
+// this ask, or dropped from a slot this feed was slow to empty), and the client would
+// otherwise wait for the periodic one 10 s later.
+void RtspFeed::look_at_play() {
+  if (!prerolled_) return;
+  if (play_started_.exchange(false)) {
+    awaiting_key_ = true;
+    keys_since_play_ = 0;
+    ask_key_frame();
+    return;
+  }
+  if (playing_ && awaiting_key_ && VideoStream::Clock::now() - last_ask_ >= VideoStream::kMinKeyInterval) {
+    ask_key_frame();
+  }
+}
+
+void RtspFeed::ask_key_frame() {
+  if (subscriber_->video()) subscriber_->video()->request_key_frame();
+  last_ask_ = VideoStream::Clock::now();
 }
 
 void RtspFeed::run() {
@@ -93,7 +109,10 @@ void RtspFeed::run() {
   }
   while (!stop_) {
     const auto frame = subscriber_->take(std::chrono::milliseconds(100));
-    if (!frame) continue;
+    if (!frame) {
+      look_at_play();
+      continue;
+    }
     if (!*frame) break;  // the view was deleted, or the daemon stops
     // The view's revision first (it counts what reaches the client), then what this client
     // can use now (a media that prerolled must not take a frame the revision check drops).

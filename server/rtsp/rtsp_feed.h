@@ -5,6 +5,7 @@
 #include <gst/gst.h>
 
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <string>
 #include <thread>
@@ -30,6 +31,8 @@ class RtspFeed {
   void run();
   // Feed thread: whether `frame` goes to the client now (see run()).
   bool wanted(const v1::Frame& frame);
+  void look_at_play();
+  void ask_key_frame();
 
   Pipeline& pipeline_;
   const std::string view_;
@@ -42,6 +45,7 @@ class RtspFeed {
   bool prerolled_ = false;  // the first key frame went out: the media knows its SPS/PPS
   bool awaiting_key_ = false;  // frames until the next key frame depend on ones not sent
   int keys_since_play_ = 0;
+  std::chrono::steady_clock::time_point last_ask_{};  // of a key frame, for this client
   std::thread thread_;
 };
 

@@ -166,7 +166,7 @@ TEST(VideoPlayers, ANobufferPlayerShowsItsFirstPictureWithinASecondOrSo) {
   for (int i = 0; i < 2; ++i) {
     const auto start = Clock::now();
     const auto r = run_process(timeout_prefix(15) +
-                               "ffmpeg -v error -fflags nobuffer -flags low_delay -probesize 32 -rtsp_transport tcp -i " +
+                               "ffmpeg -v verbose -fflags nobuffer -flags low_delay -probesize 32 -rtsp_transport tcp -i " +
                                s.url("front") + " -frames:v 1 -f null - 2>&1");
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     EXPECT_EQ(r.exit_code, 0) << r.output;
