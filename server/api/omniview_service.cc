@@ -19,7 +19,7 @@ namespace omniview {
 namespace {
 
 using service_support::guarded;
-using service_support::kPoll;
+using service_support::closed_status;
 
 // A frame set as StreamSourceFrames sends it: the source's encoded bytes where it kept
 // them (a robot's JPEG: no loss, no work), lossless PNG otherwise.
@@ -174,19 +174,12 @@ grpc::Status OmniviewService::StreamFrames(grpc::ServerContext* ctx, const v1::S
     }
     StreamSlot slot(*this, ctx->peer());
     if (auto s = slot.acquire(); !s.ok()) return s;
-    auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, rate, req->stale_frames());
-    // Unsubscribe however this ends (client gone, view deleted, shutdown, exception).
-    struct Unsubscribe {
-      Pipeline& p;
-      std::string view;
-      const Subscriber* s;
-      ~Unsubscribe() { p.unsubscribe(view, s); }
-    } unsubscribe{pipeline_, req->view(), subscriber.get()};
+    const auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, rate, req->stale_frames());
     while (true) {
       if (ctx->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "client cancelled");
-      const auto frame = subscriber->take(kPoll);
+      const auto frame = subscriber->take(kFrontEndPoll);
       if (!frame) continue;  // timed out: check for cancellation and wait again
-      if (!*frame) return grpc::Status(subscriber->close_code(), subscriber->close_reason());
+      if (!*frame) return closed_status(*subscriber);
       // Checked last, against the view's revision now: the view may have changed since the
       // frame was taken (docs/API.md, "Streams").
       if (!subscriber->hand_over(**frame)) continue;
@@ -210,19 +203,13 @@ grpc::Status OmniviewService::GetSnapshot(grpc::ServerContext* ctx, const v1::Sn
                           "timeout_ms must be 0..60000 (0: 5000), got " + std::to_string(req->timeout_ms()));
     }
     const int timeout_ms = req->timeout_ms() > 0 ? req->timeout_ms() : 5000;
-    auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, 0);
-    struct Unsubscribe {
-      Pipeline& p;
-      std::string view;
-      const Subscriber* s;
-      ~Unsubscribe() { p.unsubscribe(view, s); }
-    } unsubscribe{pipeline_, req->view(), subscriber.get()};
+    const auto subscriber = pipeline_.subscribe(req->view(), ctx->peer(), key, 0);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     while (std::chrono::steady_clock::now() < deadline) {
       if (ctx->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "client cancelled");
-      const auto frame = subscriber->take(kPoll);
+      const auto frame = subscriber->take(kFrontEndPoll);
       if (!frame) continue;
-      if (!*frame) return grpc::Status(subscriber->close_code(), subscriber->close_reason());
+      if (!*frame) return closed_status(*subscriber);
       if (!subscriber->hand_over(**frame)) continue;  // the view changed since it was taken
       *resp = **frame;
       return grpc::Status::OK;
@@ -295,12 +282,12 @@ grpc::Status OmniviewService::SaveBlackBox(grpc::ServerContext* ctx, const v1::S
       }
     } catch (const SnapshotError& e) {
       using Kind = SnapshotError::Kind;
-      const grpc::StatusCode code = e.kind() == Kind::kInvalidName     ? grpc::StatusCode::INVALID_ARGUMENT
-                                    : e.kind() == Kind::kExists        ? grpc::StatusCode::ALREADY_EXISTS
-                                    : e.kind() == Kind::kUnknownSource ? grpc::StatusCode::NOT_FOUND
-                                    : e.kind() == Kind::kEmpty         ? grpc::StatusCode::FAILED_PRECONDITION
-                                                                       : grpc::StatusCode::INTERNAL;
-      return grpc::Status(code, e.what());
+      const ErrorKind kind = e.kind() == Kind::kInvalidName     ? ErrorKind::kInvalidArgument
+                             : e.kind() == Kind::kExists        ? ErrorKind::kAlreadyExists
+                             : e.kind() == Kind::kUnknownSource ? ErrorKind::kNotFound
+                             : e.kind() == Kind::kEmpty         ? ErrorKind::kFailedPrecondition
+                                                                : ErrorKind::kInternal;
+      return grpc_status(grpc_code(kind), e.what());
     }
     return grpc::Status::OK;
   });
@@ -340,17 +327,11 @@ grpc::Status OmniviewService::StreamSourceFrames(grpc::ServerContext* ctx, const
     StreamSlot slot(*this, ctx->peer());
     if (auto s = slot.acquire(); !s.ok()) return s;
     const std::string source = req->source();
-    auto tap = pipeline_.tap(source);
-    struct Untap {
-      Pipeline& p;
-      std::string source;
-      const FrameSetTap* t;
-      ~Untap() { p.untap(source, t); }
-    } untap{pipeline_, source, tap.get()};
+    const auto tap = pipeline_.tap(source);
     std::shared_ptr<const Rig> last_rig;  // held: a new rig never reuses its address unseen
     while (true) {
       if (ctx->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "client cancelled");
-      const auto next = tap->take(kPoll);
+      const auto next = tap->take(kFrontEndPoll);
       if (!next) continue;
       if (!next->frames) return grpc::Status(grpc::StatusCode::UNAVAILABLE, tap->close_reason());
       const bool new_rig = next->frames->rig != last_rig;

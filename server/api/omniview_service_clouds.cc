@@ -9,15 +9,7 @@ namespace omniview {
 namespace {
 
 using service_support::guarded;
-using service_support::kPoll;
-
-// Unsubscribes however a cloud stream ends (client gone, shutdown, exception).
-struct CloudUnsubscribe {
-  Pipeline& pipeline;
-  std::string source;
-  const CloudSubscriber* subscriber;
-  ~CloudUnsubscribe() { pipeline.unsubscribe_cloud(source, subscriber); }
-};
+using service_support::closed_status;
 
 }  // namespace
 
@@ -38,13 +30,12 @@ grpc::Status OmniviewService::StreamClouds(grpc::ServerContext* ctx, const v1::S
                                 "; max_message_bytes=" + std::to_string(limits_.max_message_bytes));
     StreamSlot slot(*this, ctx->peer());
     if (auto s = slot.acquire(); !s.ok()) return s;
-    auto subscriber = pipeline_.subscribe_cloud(req->source(), ctx->peer(), std::move(request), rate);
-    CloudUnsubscribe unsubscribe{pipeline_, req->source(), subscriber.get()};
+    const auto subscriber = pipeline_.subscribe_cloud(req->source(), ctx->peer(), std::move(request), rate);
     while (true) {
       if (ctx->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "client cancelled");
-      const auto cloud = subscriber->take(kPoll);
+      const auto cloud = subscriber->take(kFrontEndPoll);
       if (!cloud) continue;  // timed out: check for cancellation and wait again
-      if (!*cloud) return grpc::Status(subscriber->close_code(), subscriber->close_reason());
+      if (!*cloud) return closed_status(*subscriber);
       if (!writer->Write(**cloud)) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
       subscriber->count_sent();
     }
@@ -57,14 +48,14 @@ grpc::Status OmniviewService::GetCloud(grpc::ServerContext* ctx, const v1::GetCl
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     const int timeout_ms = req->timeout_ms() > 0 ? req->timeout_ms() : 5000;
-    auto subscriber = pipeline_.subscribe_cloud(req->source(), ctx->peer(), cloud_request_from_proto(req->options()), 0);
-    CloudUnsubscribe unsubscribe{pipeline_, req->source(), subscriber.get()};
+    const auto subscriber =
+        pipeline_.subscribe_cloud(req->source(), ctx->peer(), cloud_request_from_proto(req->options()), 0);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
     while (std::chrono::steady_clock::now() < deadline) {
       if (ctx->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "client cancelled");
-      const auto cloud = subscriber->take(kPoll);
+      const auto cloud = subscriber->take(kFrontEndPoll);
       if (!cloud) continue;
-      if (!*cloud) return grpc::Status(subscriber->close_code(), subscriber->close_reason());
+      if (!*cloud) return closed_status(*subscriber);
       *resp = **cloud;
       return grpc::Status::OK;
     }

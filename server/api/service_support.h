@@ -1,41 +1,31 @@
 // What every RPC of OmniviewService shares: errors turned into statuses a person can act
-// on, the role check, the request-bounds check and the poll interval of waiting streams.
+// on, the role check and the request-bounds check.
 #pragma once
 
-#include <chrono>
-#include <string>
 
 #include <grpcpp/support/status.h>
 
 #include "server/api/request_bounds.h"
 #include "server/auth/permissions.h"
-#include "server/pipeline/api_error.h"
+#include "server/status/failure.h"
 
 namespace omniview::service_support {
 
-// Runs `body`, turning the pipeline's and core's exceptions into statuses.
-// A status message travels in a header: however it was built, keep it far below gRPC's
-// metadata limit (8 KiB), or the client sees RESOURCE_EXHAUSTED instead of the refusal.
-inline grpc::Status bounded(grpc::StatusCode code, std::string message) {
-  constexpr size_t kMaxStatusMessage = 2048;
-  if (message.size() > kMaxStatusMessage) message = message.substr(0, kMaxStatusMessage) + "... (cut)";
-  return grpc::Status(code, message);
-}
-
+// Runs `body`, turning any exception into the status server/status/failure.h says for it.
 template <typename F>
 grpc::Status guarded(F&& body) {
   try {
     const grpc::Status s = body();
-    return s.ok() ? s : bounded(s.error_code(), s.error_message());
-  } catch (const ApiError& e) {
-    return bounded(e.code, e.what());
-  } catch (const std::invalid_argument& e) {
-    return bounded(grpc::StatusCode::INVALID_ARGUMENT, e.what());
-  } catch (const std::exception& e) {
-    return bounded(grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
+    return s.ok() ? s : grpc_status(s.error_code(), s.error_message());
   } catch (...) {
-    return bounded(grpc::StatusCode::INTERNAL, "internal error");
+    return grpc_status(current_failure());
   }
+}
+
+// A stream's subscriber closed by the pipeline (view deleted, shutdown): the status it says.
+template <typename S>
+grpc::Status closed_status(const S& subscriber) {
+  return grpc_status(grpc_code(subscriber.close_kind()), subscriber.close_reason());
 }
 
 // The role the RPC needs comes from the one table (server/auth/permissions.h), by the
@@ -52,7 +42,5 @@ grpc::Status guarded(F&& body) {
     const grpc::Status bounds_status = check_request_bounds(*(req));  \
     if (!bounds_status.ok()) return bounds_status;                    \
   } while (0)
-
-inline constexpr auto kPoll = std::chrono::milliseconds(100);  // how often a waiting stream checks for cancellation
 
 }  // namespace omniview::service_support

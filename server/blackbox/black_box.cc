@@ -53,7 +53,7 @@ struct BlackBox::Recorder {
   std::string source;
   mutable std::mutex mutex;  // the ring and the fields below
   std::unique_ptr<BlackBoxRing> ring;
-  std::shared_ptr<FrameSetTap> tap;
+  TapSubscription tap;
   uint64_t not_kept = 0;  // too big for a segment, or a write failed
   std::string message;
   Clock::time_point last_error_log{};
@@ -118,9 +118,7 @@ BlackBox::BlackBox(const BlackBoxConfig& config, Pipeline& pipeline, const std::
   try {
     for (auto& r : recorders_) r->tap = pipeline_.tap(r->source, /*passive=*/true, kQueue);
   } catch (...) {
-    for (auto& r : recorders_) {
-      if (r->tap) pipeline_.untap(r->source, r->tap.get());
-    }
+    for (auto& r : recorders_) r->tap.reset();
     throw;
   }
   for (auto& r : recorders_) r->writer = std::thread([this, rec = r.get()] { write_loop(*rec); });
@@ -139,11 +137,9 @@ void BlackBox::stop() {
   watch_wake_.notify_all();
   if (watcher_.joinable()) watcher_.join();
   for (auto& r : recorders_) {
-    if (r->tap) {
-      pipeline_.untap(r->source, r->tap.get());
-      r->tap->close("the black box stops");
-    }
+    if (r->tap) r->tap->close("the black box stops");  // the writer's take() returns at once
     if (r->writer.joinable()) r->writer.join();
+    r->tap.reset();  // leaves the source
     std::lock_guard lock(r->mutex);
     try {
       r->ring->seal();

@@ -63,11 +63,11 @@ void encode_and_offer(LiveView& view, const ViewState& state, RenderedFrame& ren
   } catch (const std::invalid_argument& e) {
     // The view changed into something this encoding cannot carry (H.264 beyond its largest size).
     for (auto& s : subscribers) {
-      s->close(grpc::StatusCode::FAILED_PRECONDITION, "view '" + state.spec.name + "': " + e.what());
+      s->close(ErrorKind::kFailedPrecondition, "view '" + state.spec.name + "': " + e.what());
     }
     return;
   } catch (const std::exception& e) {
-    for (auto& s : subscribers) s->close(grpc::StatusCode::INTERNAL, std::string("cannot encode frames: ") + e.what());
+    for (auto& s : subscribers) s->close(ErrorKind::kInternal, std::string("cannot encode frames: ") + e.what());
     return;
   }
   const auto offered = Clock::now();

@@ -41,7 +41,7 @@ void LiveView::remove_subscriber(const Subscriber* s) {
     }
   }
   // Encodes in flight may still hold it: closed, it refuses their frames.
-  for (const auto& r : removed) r->close(grpc::StatusCode::CANCELLED, "left the stream");
+  for (const auto& r : removed) r->close(ErrorKind::kCancelled, "left the stream");
 }
 
 std::vector<std::shared_ptr<Subscriber>> LiveView::subscribers() const {
@@ -54,7 +54,7 @@ size_t LiveView::subscriber_count() const {
   return subscribers_.size();
 }
 
-void LiveView::close_all(grpc::StatusCode code, const std::string& reason) {
+void LiveView::close_all(ErrorKind code, const std::string& reason) {
   for (const auto& s : subscribers()) s->close(code, reason);
 }
 

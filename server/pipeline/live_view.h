@@ -84,7 +84,7 @@ class LiveView {
   // When the view last went from no subscriber to one: a source asked for images only from
   // then on (Spot pulls nothing while nobody watches) is not stale before it had time.
   std::chrono::steady_clock::time_point watched_since() const;
-  void close_all(grpc::StatusCode code, const std::string& reason);
+  void close_all(ErrorKind code, const std::string& reason);
   // The shared encoder of this view's video group `key` (video_stream.h): the one its
   // subscribers hold, or a new one when nobody holds it any more.
   std::shared_ptr<VideoStream> join_video(const EncodingKey& key);

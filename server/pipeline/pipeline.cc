@@ -49,8 +49,8 @@ RobotJoints& Pipeline::robot_joints(const std::string& source) const {
   const std::string name = channel(source).source().name();  // NOT_FOUND for an unknown source
   const auto it = robot_joints_.find(name);
   if (it == robot_joints_.end()) {
-    throw ApiError(grpc::StatusCode::FAILED_PRECONDITION,
-                   "source '" + name + "' has no robot model (robot_models in the daemon's config)");
+    throw PipelineError(ErrorKind::kFailedPrecondition,
+                        "source '" + name + "' has no robot model (robot_models in the daemon's config)");
   }
   return *it->second;
 }
@@ -87,10 +87,10 @@ void Pipeline::stop(const std::string& reason) {
   if (stopped_.exchange(true)) return;
   {
     std::lock_guard lock(views_mutex_);
-    for (auto& [_, v] : views_) v->close_all(grpc::StatusCode::UNAVAILABLE, reason);
+    for (auto& [_, v] : views_) v->close_all(ErrorKind::kUnavailable, reason);
   }
   for (auto& c : channels_) c->close_taps(reason);
-  for (auto& [_, c] : clouds_) c->close_all(grpc::StatusCode::UNAVAILABLE, reason);
+  for (auto& [_, c] : clouds_) c->close_all(ErrorKind::kUnavailable, reason);
   if (!started_flag_) return;
   for (auto& c : channels_) c->source().stop();
   for (auto& c : channels_) c->close();
@@ -109,14 +109,14 @@ void Pipeline::stop(const std::string& reason) {
 // ---------------------------------------------------------------- lookups
 
 SourceChannel& Pipeline::channel(const std::string& source) const {
-  if (channels_.empty()) throw ApiError(grpc::StatusCode::FAILED_PRECONDITION, "omniviewd has no sources configured");
+  if (channels_.empty()) throw PipelineError(ErrorKind::kFailedPrecondition, "omniviewd has no sources configured");
   if (source.empty()) return *channels_.front();
   for (const auto& c : channels_) {
     if (c->source().name() == source) return *c;
   }
   std::string known;
   for (const auto& c : channels_) known += (known.empty() ? "" : ", ") + c->source().name();
-  throw ApiError(grpc::StatusCode::NOT_FOUND, "no source named '" + source + "' (sources: " + known + ")");
+  throw PipelineError(ErrorKind::kNotFound, "no source named '" + source + "' (sources: " + known + ")");
 }
 
 std::shared_ptr<LiveView> Pipeline::find_view(const std::string& name) const {
@@ -125,8 +125,8 @@ std::shared_ptr<LiveView> Pipeline::find_view(const std::string& name) const {
   if (it == views_.end()) {
     std::string known;
     for (const auto& [n, _] : views_) known += (known.empty() ? "" : ", ") + n;
-    throw ApiError(grpc::StatusCode::NOT_FOUND,
-                   "no view named '" + name + "' (views: " + (known.empty() ? "none" : known) + ")");
+    throw PipelineError(ErrorKind::kNotFound,
+                        "no view named '" + name + "' (views: " + (known.empty() ? "none" : known) + ")");
   }
   return it->second;
 }

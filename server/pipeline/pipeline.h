@@ -31,7 +31,7 @@
 #include <vector>
 
 #include "omniview/v1/omniview.pb.h"
-#include "server/pipeline/api_error.h"
+#include "server/pipeline/errors.h"
 #include "server/pipeline/cloud/cloud_delivery.h"
 #include "server/pipeline/depth/depth_update_queue.h"
 #include "server/pipeline/depth/source_geometry.h"
@@ -41,6 +41,7 @@
 #include "server/pipeline/robot_layer.h"
 #include "server/pipeline/source_channel.h"
 #include "server/pipeline/subscriber.h"
+#include "server/pipeline/subscription.h"
 
 namespace omniview {
 
@@ -73,7 +74,7 @@ class Pipeline {
   // Ends every stream with `reason`, stops the sources and joins all threads. Idempotent.
   void stop(const std::string& reason);
 
-  // All of these throw ApiError (NOT_FOUND, INVALID_ARGUMENT, ALREADY_EXISTS, ...).
+  // All of these throw PipelineError (NOT_FOUND, INVALID_ARGUMENT, ALREADY_EXISTS, ...).
   std::vector<v1::Camera> cameras(const std::string& source) const;
   v1::View create_view(ViewSpec spec);
   v1::View update_view(const std::string& name, const v1::ViewSpec& set, const v1::ViewDelta& delta);
@@ -85,20 +86,18 @@ class Pipeline {
 
   // `stale_frames`: the client wants its view's last picture again, marked, while the
   // source is silent (staleness.h).
-  std::shared_ptr<Subscriber> subscribe(const std::string& view, const std::string& peer, EncodingKey key,
-                                        double max_rate_hz, bool stale_frames = false);
-  void unsubscribe(const std::string& view, const Subscriber* subscriber);
+  // Each stream is held by a Subscription, which leaves the pipeline when it ends.
+  ViewSubscription subscribe(const std::string& view, const std::string& peer, EncodingKey key, double max_rate_hz,
+                             bool stale_frames = false);
   // Every frame set of `source` into a bounded queue (a recording). A passive tap (the black
   // box) keeps what flows for the views anyway and asks the source for nothing more; an
   // active one makes it deliver every camera at full resolution.
-  std::shared_ptr<FrameSetTap> tap(const std::string& source, bool passive = false, TapLimits limits = {});
-  void untap(const std::string& source, const FrameSetTap* tap);
+  TapSubscription tap(const std::string& source, bool passive = false, TapLimits limits = {});
   // Coloured clouds of `source` ("" = default) as `request` asks: NOT_FOUND for an unknown
   // source, FAILED_PRECONDITION for one without clouds, INVALID_ARGUMENT for a frame the
   // source's rig lacks.
-  std::shared_ptr<CloudSubscriber> subscribe_cloud(const std::string& source, const std::string& peer,
-                                                   CloudRequest request, double max_rate_hz);
-  void unsubscribe_cloud(const std::string& source, const CloudSubscriber* subscriber);
+  CloudSubscription subscribe_cloud(const std::string& source, const std::string& peer, CloudRequest request,
+                                    double max_rate_hz);
   // Whether `source` ("" = default) delivers lidar clouds (NOT_FOUND for an unknown source).
   bool provides_clouds(const std::string& source) const;
   // The rig a source currently delivers (for recordings).
@@ -116,6 +115,10 @@ class Pipeline {
   bool stopped() const { return stopped_; }
 
  private:
+  // What a Subscription's end calls.
+  void unsubscribe(const std::string& view, const Subscriber* subscriber);
+  void untap(const std::string& source, const FrameSetTap* tap);
+  void unsubscribe_cloud(const std::string& source, const CloudSubscriber* subscriber);
   std::shared_ptr<LiveView> find_view(const std::string& name) const;
   SourceChannel& channel(const std::string& source) const;  // "" = default source
   std::shared_ptr<const ViewState> build_state(const ViewSpec& spec, uint64_t revision) const;
@@ -139,7 +142,7 @@ class Pipeline {
   // std::invalid_argument when the geometry's frame is not the rig's.
   void apply_measured_depth(ViewState& state, const GeometrySnapshot& geometry) const;
   void describe_depth(const ViewState& state, size_t subscribers, v1::ViewStatus& status) const;
-  RobotJoints& robot_joints(const std::string& source) const;  // throws ApiError
+  RobotJoints& robot_joints(const std::string& source) const;  // throws PipelineError
   void rebuild_worker();
   void request_rebuild(const std::string& view);
 

@@ -8,28 +8,30 @@ CloudDelivery& Pipeline::clouds(const std::string& source) const { return *cloud
 
 bool Pipeline::provides_clouds(const std::string& source) const { return channel(source).source().provides_clouds(); }
 
-std::shared_ptr<CloudSubscriber> Pipeline::subscribe_cloud(const std::string& source, const std::string& peer,
-                                                           CloudRequest request, double max_rate_hz) {
-  if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
+CloudSubscription Pipeline::subscribe_cloud(const std::string& source, const std::string& peer, CloudRequest request,
+                                            double max_rate_hz) {
+  if (stopped_) throw PipelineError(ErrorKind::kUnavailable, "omniviewd is shutting down");
   SourceChannel& ch = channel(source);  // NOT_FOUND for an unknown source
   const std::string name = ch.source().name();
   if (!ch.source().provides_clouds()) {
-    throw ApiError(grpc::StatusCode::FAILED_PRECONDITION,
-                   "source '" + name + "' (type " + ch.source().type() + ") delivers no point clouds");
+    throw PipelineError(ErrorKind::kFailedPrecondition,
+                        "source '" + name + "' (type " + ch.source().type() + ") delivers no point clouds");
   }
   if (!request.frame.empty()) {
     const auto r = rig(name);
     if (!r->frames().has_frame(request.frame)) {
       std::string known;
       for (const auto& f : r->known_frames()) known += (known.empty() ? "" : ", ") + f;
-      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
-                     "options.frame: '" + request.frame + "' is not a frame of source '" + name + "' (frames: " + known + ")");
+      throw PipelineError(ErrorKind::kInvalidArgument,
+                          "options.frame: '" + request.frame + "' is not a frame of source '" + name +
+                              "' (frames: " + known + ")");
     }
   }
   auto s = std::make_shared<CloudSubscriber>(peer, std::move(request), max_rate_hz);
   clouds(name).add(s);
+  CloudSubscription held(s, [this, name](const CloudSubscriber* left) { unsubscribe_cloud(name, left); });
   update_wanted_cameras(name);
-  return s;
+  return held;
 }
 
 void Pipeline::unsubscribe_cloud(const std::string& source, const CloudSubscriber* subscriber) {

@@ -10,9 +10,9 @@
 
 namespace omniview {
 
-std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const std::string& peer, EncodingKey key,
-                                                double max_rate_hz, bool stale_frames) {
-  if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
+ViewSubscription Pipeline::subscribe(const std::string& name, const std::string& peer, EncodingKey key,
+                                     double max_rate_hz, bool stale_frames) {
+  if (stopped_) throw PipelineError(ErrorKind::kUnavailable, "omniviewd is shutting down");
   auto view = find_view(name);
   std::shared_ptr<Subscriber> s;
   if (key.encoding == v1::H264) {
@@ -24,7 +24,7 @@ std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const s
     try {
       video::check(settings);
     } catch (const std::invalid_argument& e) {
-      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "view '" + name + "': " + e.what());
+      throw PipelineError(ErrorKind::kInvalidArgument, "view '" + name + "': " + e.what());
     }
     key.rate_mhz = static_cast<int>(std::lround(max_rate_hz * 1000));
     s = std::make_shared<Subscriber>(peer, key, view->join_video(key), stale_frames);
@@ -32,6 +32,7 @@ std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const s
     s = std::make_shared<Subscriber>(peer, key, max_rate_hz, stale_frames);
   }
   view->add_subscriber(s);
+  ViewSubscription held(s, [this, name](const Subscriber* left) { unsubscribe(name, left); });
   // After it is listed: an update from here on raises its floor itself, and one before has
   // its state in place already. Either way no frame of an older revision reaches it.
   s->set_min_revision(view->state()->revision);
@@ -45,7 +46,7 @@ std::shared_ptr<Subscriber> Pipeline::subscribe(const std::string& name, const s
     }
     if (depth_updates_) depth_updates_->request(name);
   }
-  return s;
+  return held;
 }
 
 void Pipeline::unsubscribe(const std::string& name, const Subscriber* subscriber) {
@@ -68,13 +69,14 @@ void Pipeline::unsubscribe(const std::string& name, const Subscriber* subscriber
   update_wanted_cameras(view->state()->spec.source);
 }
 
-std::shared_ptr<FrameSetTap> Pipeline::tap(const std::string& source, bool passive, TapLimits limits) {
-  if (stopped_) throw ApiError(grpc::StatusCode::UNAVAILABLE, "omniviewd is shutting down");
+TapSubscription Pipeline::tap(const std::string& source, bool passive, TapLimits limits) {
+  if (stopped_) throw PipelineError(ErrorKind::kUnavailable, "omniviewd is shutting down");
   SourceChannel& ch = channel(source);
   auto t = std::make_shared<FrameSetTap>(passive ? limits : limits_.record_queue);
   ch.add_tap(t, passive);
+  TapSubscription held(t, [this, source](const FrameSetTap* left) { untap(source, left); });
   if (!passive) update_wanted_cameras(ch.source().name());
-  return t;
+  return held;
 }
 
 void Pipeline::untap(const std::string& source, const FrameSetTap* t) {

@@ -26,25 +26,25 @@ constexpr int64_t kMaxDepthViewPixels = 2048LL * 1024;
 }  // namespace
 
 std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uint64_t revision) const {
-  if (spec.name.empty()) throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "a view needs a name");
+  if (spec.name.empty()) throw PipelineError(ErrorKind::kInvalidArgument, "a view needs a name");
   const std::string what = "view " + quote_prefix(spec.name);
   if (static_cast<int64_t>(spec.width) * spec.height > limits_.max_view_pixels && spec.width > 0 && spec.height > 0) {
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
-                   what + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                       " pixels is more than this daemon allows (limits.max_view_pixels = " +
-                       std::to_string(limits_.max_view_pixels) + ")");
+    throw PipelineError(ErrorKind::kInvalidArgument,
+                        what + ": " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                            " pixels is more than this daemon allows (limits.max_view_pixels = " +
+                            std::to_string(limits_.max_view_pixels) + ")");
   }
   // Before any map is built: refused at once.
   if (spec.depth == Depth::kMeasured && static_cast<int64_t>(spec.width) * spec.height > kMaxDepthViewPixels) {
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
-                   what + ": depth: measured takes views of at most " + std::to_string(kMaxDepthViewPixels) +
-                       " pixels (1920x1080 fits); this one has " + std::to_string(spec.width) + "x" +
-                       std::to_string(spec.height));
+    throw PipelineError(ErrorKind::kInvalidArgument,
+                        what + ": depth: measured takes views of at most " + std::to_string(kMaxDepthViewPixels) +
+                            " pixels (1920x1080 fits); this one has " + std::to_string(spec.width) + "x" +
+                            std::to_string(spec.height));
   }
   try {
     validate(spec);  // the one check of every field, before anything uses one (CreateView, UpdateView, config)
   } catch (const std::invalid_argument& e) {
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+    throw PipelineError(ErrorKind::kInvalidArgument, e.what());
   }
   auto state = std::make_shared<ViewState>();
   state->spec = spec;
@@ -52,12 +52,12 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
   try {
     state->view = View::create(spec);
   } catch (const std::invalid_argument& e) {
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+    throw PipelineError(ErrorKind::kInvalidArgument, e.what());
   }
   if (spec.overlay && !robot_models_.count(spec.source)) {
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
-                   what + ": overlay needs a robot model for source '" + spec.source +
-                       "' (robot_models in the daemon's config), and it has none");
+    throw PipelineError(ErrorKind::kInvalidArgument,
+                        what + ": overlay needs a robot model for source '" + spec.source +
+                            "' (robot_models in the daemon's config), and it has none");
   }
   state->rig = rig(spec.source);
   const Rig& r = *state->rig;
@@ -65,15 +65,15 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
   if (!r.frames().has_frame(frame)) {
     std::string known;
     for (const auto& f : r.frames().frames()) known += (known.empty() ? "" : ", ") + f;
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
-                   what + ": frame '" + frame + "' is not in source '" + channel(spec.source).source().name() +
-                       "' (frames: " + known + ")");
+    throw PipelineError(ErrorKind::kInvalidArgument,
+                        what + ": frame '" + frame + "' is not in source '" + channel(spec.source).source().name() +
+                            "' (frames: " + known + ")");
   }
   const auto t0 = Clock::now();
   try {
     state->map = std::make_shared<const FusionMap>(build_map(r, *state->view));
   } catch (const std::invalid_argument& e) {
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+    throw PipelineError(ErrorKind::kInvalidArgument, e.what());
   }
   state->build_ms = ms_since(t0);
   state->coverage = state->map->coverage();
@@ -96,7 +96,7 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
     try {
       depth->surface = std::make_shared<const DepthSurface>(spec);
     } catch (const std::invalid_argument& e) {
-      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+      throw PipelineError(ErrorKind::kInvalidArgument, e.what());
     }
     state->depth = std::move(depth);
     const auto geometry = this->geometry(channel(spec.source).source().name()).latest();
@@ -118,13 +118,13 @@ v1::View Pipeline::create_view(ViewSpec spec) {
   {
     std::lock_guard lock(views_mutex_);
     if (views_.count(spec.name)) {
-      throw ApiError(grpc::StatusCode::ALREADY_EXISTS,
-                     "a view named '" + spec.name + "' exists already (update it, or delete it first)");
+      throw PipelineError(ErrorKind::kAlreadyExists,
+                          "a view named '" + spec.name + "' exists already (update it, or delete it first)");
     }
     if (static_cast<int>(views_.size()) >= limits_.max_views) {
-      throw ApiError(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                     "this daemon keeps at most " + std::to_string(limits_.max_views) +
-                         " views (limits.max_views); delete one first");
+      throw PipelineError(ErrorKind::kResourceExhausted,
+                          "this daemon keeps at most " + std::to_string(limits_.max_views) +
+                              " views (limits.max_views); delete one first");
     }
   }
   auto state = build_state(spec, 1);
@@ -133,7 +133,7 @@ v1::View Pipeline::create_view(ViewSpec spec) {
   {
     std::lock_guard lock(views_mutex_);
     if (!views_.emplace(spec.name, view).second) {
-      throw ApiError(grpc::StatusCode::ALREADY_EXISTS, "a view named '" + spec.name + "' exists already");
+      throw PipelineError(ErrorKind::kAlreadyExists, "a view named '" + spec.name + "' exists already");
     }
   }
   return *state->description;
@@ -148,7 +148,7 @@ v1::View Pipeline::update_view(const std::string& name, const v1::ViewSpec& set,
     apply_patch(set, spec);
     apply_delta(delta, spec);
   } catch (const std::invalid_argument& e) {
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+    throw PipelineError(ErrorKind::kInvalidArgument, e.what());
   }
   if (spec.source.empty()) spec.source = channel("").source().name();
   channel(spec.source);
@@ -156,7 +156,7 @@ v1::View Pipeline::update_view(const std::string& name, const v1::ViewSpec& set,
   if (renamed) {
     std::lock_guard lock(views_mutex_);
     if (views_.count(spec.name)) {
-      throw ApiError(grpc::StatusCode::ALREADY_EXISTS, "cannot rename view '" + name + "' to '" + spec.name +
+      throw PipelineError(ErrorKind::kAlreadyExists, "cannot rename view '" + name + "' to '" + spec.name +
                                                            "': a view of that name exists");
     }
   }
@@ -179,11 +179,11 @@ void Pipeline::delete_view(const std::string& name) {
   {
     std::lock_guard lock(views_mutex_);
     const auto it = views_.find(name);
-    if (it == views_.end()) throw ApiError(grpc::StatusCode::NOT_FOUND, "no view named '" + name + "'");
+    if (it == views_.end()) throw PipelineError(ErrorKind::kNotFound, "no view named '" + name + "'");
     view = it->second;
     views_.erase(it);
   }
-  view->close_all(grpc::StatusCode::NOT_FOUND, "view '" + name + "' was deleted");
+  view->close_all(ErrorKind::kNotFound, "view '" + name + "' was deleted");
   update_wanted_cameras(view->state()->spec.source);
 }
 
@@ -219,7 +219,7 @@ v1::PointToPixelResponse Pipeline::point_to_pixel(const std::string& name, const
   const std::string robot = r.default_frame();
   const auto T_robot_frame = r.frames().try_lookup(robot, frame.empty() ? robot : frame);
   if (!T_robot_frame) {
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "frame '" + frame + "' is not connected to '" + robot + "'");
+    throw PipelineError(ErrorKind::kInvalidArgument, "frame '" + frame + "' is not connected to '" + robot + "'");
   }
   const Vec3 p_view = state->T_robot_view.inverse() * (*T_robot_frame * point);
   v1::PointToPixelResponse out;

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "server/pipeline/api_error.h"
+#include "server/pipeline/errors.h"
 
 namespace omniview {
 
@@ -14,18 +14,18 @@ void RobotJoints::set(const JointMap& updates, bool clear) {
     if (model.variable_index(name) < 0) {
       std::string known;
       for (const auto& n : model.variable_names()) known += (known.empty() ? "" : ", ") + n;
-      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT,
-                     "robot '" + model.name() + "' has no movable joint '" + name + "' (it has: " +
-                         (known.empty() ? "none" : known) + ")");
+      throw PipelineError(ErrorKind::kInvalidArgument,
+                          "robot '" + model.name() + "' has no movable joint '" + name + "' (it has: " +
+                              (known.empty() ? "none" : known) + ")");
     }
     if (!std::isfinite(value)) {
-      throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, "joint '" + name + "': position must be a finite number");
+      throw PipelineError(ErrorKind::kInvalidArgument, "joint '" + name + "': position must be a finite number");
     }
   }
   try {
     model.check_limits(updates);
   } catch (const std::invalid_argument& e) {
-    throw ApiError(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+    throw PipelineError(ErrorKind::kInvalidArgument, e.what());
   }
   std::lock_guard lock(mutex_);
   if (clear) api_.clear();

@@ -20,7 +20,7 @@ class RobotJoints {
  public:
   explicit RobotJoints(std::shared_ptr<const RobotModelSetup> setup);
 
-  // Merges `updates` into the API layer (after forgetting it when `clear`). Throws ApiError
+  // Merges `updates` into the API layer (after forgetting it when `clear`). Throws PipelineError
   // INVALID_ARGUMENT naming a joint the model does not have (and the ones it has) or a
   // value that is not a finite number; nothing changes then.
   void set(const JointMap& updates, bool clear);

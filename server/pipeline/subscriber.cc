@@ -92,12 +92,12 @@ void Subscriber::count_dropped() {
   ++dropped_;
 }
 
-void Subscriber::close(grpc::StatusCode code, const std::string& reason) {
+void Subscriber::close(ErrorKind code, const std::string& reason) {
   {
     std::lock_guard lock(mutex_);
     if (closed_) return;
     closed_ = true;
-    close_code_ = code;
+    close_kind_ = code;
     close_reason_ = reason;
   }
   ready_.notify_all();
@@ -116,9 +116,9 @@ std::optional<SharedFrame> Subscriber::take(std::chrono::milliseconds timeout) {
   return std::nullopt;
 }
 
-grpc::StatusCode Subscriber::close_code() const {
+ErrorKind Subscriber::close_kind() const {
   std::lock_guard lock(mutex_);
-  return close_code_;
+  return close_kind_;
 }
 
 std::string Subscriber::close_reason() const {

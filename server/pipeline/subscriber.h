@@ -20,7 +20,7 @@
 #include <optional>
 #include <string>
 
-#include <grpcpp/support/status_code_enum.h>
+#include "server/pipeline/errors.h"
 
 #include "omniview/v1/omniview.pb.h"
 
@@ -75,12 +75,12 @@ class Subscriber {
   void count_dropped();
 
   // Ends the stream with this status for the client.
-  void close(grpc::StatusCode code, const std::string& reason);
+  void close(ErrorKind code, const std::string& reason);
 
   // Client side: waits up to `timeout` for a frame. nullopt on timeout; a null frame once
-  // closed (see close_code() and close_reason()).
+  // closed (see close_kind() and close_reason()).
   std::optional<SharedFrame> take(std::chrono::milliseconds timeout);
-  grpc::StatusCode close_code() const;
+  ErrorKind close_kind() const;
   std::string close_reason() const;
   // The last check, right before a taken frame goes to the transport: false when the view
   // changed since the frame was rendered (it is dropped, and counted so); true counts it as
@@ -106,7 +106,7 @@ class Subscriber {
   std::condition_variable ready_;
   SharedFrame slot_;
   bool closed_ = false;
-  grpc::StatusCode close_code_ = grpc::StatusCode::OK;
+  ErrorKind close_kind_ = ErrorKind::kCancelled;
   std::string close_reason_;
   std::chrono::steady_clock::time_point next_due_{};
   uint64_t min_revision_ = 0;  // frames of older revisions are refused

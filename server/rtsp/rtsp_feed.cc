@@ -34,9 +34,9 @@ RtspFeed::~RtspFeed() {
   stop_ = true;
   // Wakes the feed's wait for a frame at once: this runs on the thread that serves every
   // RTSP client, which would otherwise wait out the poll for each client that leaves.
-  subscriber_->close(grpc::StatusCode::CANCELLED, "the RTSP client left");
+  subscriber_->close(ErrorKind::kCancelled, "the RTSP client left");
   if (thread_.joinable()) thread_.join();
-  pipeline_.unsubscribe(view_, subscriber_.get());
+  subscriber_.reset();  // leaves the view's group
   gst_object_unref(appsrc_);
 }
 

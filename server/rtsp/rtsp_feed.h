@@ -17,7 +17,7 @@ namespace omniview {
 class RtspFeed {
  public:
   // Subscribes at once (the group's encoder makes a key frame for it) and starts pushing.
-  // Throws ApiError as Pipeline::subscribe does (a view deleted meanwhile).
+  // Throws PipelineError as Pipeline::subscribe does (a view deleted meanwhile).
   RtspFeed(Pipeline& pipeline, const std::string& view, const EncodingKey& key, double rate_hz, GstElement* appsrc);
   // Stops pushing and leaves the group (the last one out frees its encoder).
   ~RtspFeed();
@@ -36,7 +36,7 @@ class RtspFeed {
 
   Pipeline& pipeline_;
   const std::string view_;
-  std::shared_ptr<Subscriber> subscriber_;
+  ViewSubscription subscriber_;
   GstElement* appsrc_;  // a reference of our own
   std::atomic<bool> stop_{false};
   std::atomic<bool> playing_{false};

@@ -9,6 +9,7 @@
 #include "server/auth/authenticator.h"
 #include "server/config/daemon_config.h"
 #include "server/pipeline/pipeline.h"
+#include "server/status/failure.h"
 #include "server/web/console/api_calls.h"
 
 namespace omniview::web {
@@ -24,8 +25,5 @@ struct WebContext {
   // Logs a connection that authenticated: peer, protocol and the token's label (never the token).
   std::function<void(const std::string& peer, const std::string& protocol, const Caller& caller)> authenticated;
 };
-
-// gRPC's name of a status code ("NOT_FOUND"), which the web protocols use too.
-std::string code_name(grpc::StatusCode code);
 
 }  // namespace omniview::web

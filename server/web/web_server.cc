@@ -48,15 +48,6 @@ std::string peer_name(const net::ip::tcp::endpoint& e) {
 
 }  // namespace
 
-std::string code_name(grpc::StatusCode code) {
-  static const char* const kNames[] = {"OK", "CANCELLED", "UNKNOWN", "INVALID_ARGUMENT", "DEADLINE_EXCEEDED",
-                                       "NOT_FOUND", "ALREADY_EXISTS", "PERMISSION_DENIED", "RESOURCE_EXHAUSTED",
-                                       "FAILED_PRECONDITION", "ABORTED", "OUT_OF_RANGE", "UNIMPLEMENTED", "INTERNAL",
-                                       "UNAVAILABLE", "DATA_LOSS", "UNAUTHENTICATED"};
-  const int i = static_cast<int>(code);
-  return i >= 0 && i < static_cast<int>(std::size(kNames)) ? kNames[i] : "UNKNOWN";
-}
-
 WebServer::WebServer(const DaemonConfig& config, Pipeline& pipeline, const Authenticator& auth)
     : config_(config.web),
       limits_(config.limits),
@@ -289,7 +280,7 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
       const grpc::Status s = auth_.check_header(authorization, needed.value_or(Role::kOperator), &who);
       if (!s.ok()) {
         log_refusal(peer, s.error_message());
-        return reply(s.error_code() == grpc::StatusCode::PERMISSION_DENIED ? 403 : 401,
+        return reply(http_status(kind_of(s.error_code())),
                      s.error_message() + " (WHEP: send 'Authorization: Bearer TOKEN')",
                      {{"WWW-Authenticate", "Bearer"}});
       }

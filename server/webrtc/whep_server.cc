@@ -6,6 +6,7 @@
 #include <random>
 
 #include "server/pipeline/frame_encoder.h"
+#include "server/status/failure.h"
 #include "server/webrtc/whep_offer.h"
 #include "server/webrtc/whep_session.h"
 
@@ -151,16 +152,14 @@ HttpReply WhepServer::create(const std::string& view, const std::string& content
   std::shared_ptr<WhepSession> session;
   try {
     session = std::make_shared<WhepSession>(pipeline_, view, "webrtc:" + peer, offer, h264, settings);
-  } catch (const ApiError& e) {
+  } catch (...) {
     release();
-    return text(http_status(e.code), e.what());
-  } catch (const std::invalid_argument& e) {
-    release();
-    return text(400, std::string("the offer was refused: ") + e.what());
-  } catch (const std::exception& e) {
-    release();
-    std::cerr << "omniviewd: webrtc: " << peer << ": " << e.what() << std::endl;
-    return text(500, e.what());
+    // webrtcbin's refusals of the offer come as std::invalid_argument: 400 like the parser's.
+    const Failure failure = current_failure();
+    if (failure.kind == ErrorKind::kInternal) {
+      std::cerr << "omniviewd: webrtc: " << peer << ": " << failure.message << std::endl;
+    }
+    return text(http_status(failure.kind), failure.message);
   }
   const std::string id = new_session_id();
   HttpReply a;

@@ -83,7 +83,7 @@ WhepSession::WhepSession(Pipeline& pipeline, std::string view, const std::string
       gst_object_unref(appsrc_);
       gst_object_unref(media_);
     }
-    pipeline_.unsubscribe(view_, subscriber_.get());
+    subscriber_.reset();
     throw;
   }
   thread_ = std::thread([this] {
@@ -94,9 +94,9 @@ WhepSession::WhepSession(Pipeline& pipeline, std::string view, const std::string
 
 WhepSession::~WhepSession() {
   stop_ = true;
-  subscriber_->close(grpc::StatusCode::CANCELLED, "the WebRTC viewer left");
+  subscriber_->close(ErrorKind::kCancelled, "the WebRTC viewer left");
   if (thread_.joinable()) thread_.join();
-  pipeline_.unsubscribe(view_, subscriber_.get());
+  subscriber_.reset();  // leaves the view's group
   // NULL first: webrtcbin's threads (ICE, DTLS) end before our callbacks' `this` goes.
   gst_element_set_state(media_, GST_STATE_NULL);
   g_signal_handlers_disconnect_by_data(webrtc_, this);

@@ -37,7 +37,7 @@ class WhepSession {
   using Clock = std::chrono::steady_clock;
 
   // Subscribes to `view`, builds the media and answers `offer_sdp` (ICE candidates gathered,
-  // so the answer is complete: no trickle needed). Throws ApiError as Pipeline::subscribe
+  // so the answer is complete: no trickle needed). Throws PipelineError as Pipeline::subscribe
   // does, std::invalid_argument where webrtcbin refuses the offer, std::runtime_error
   // where it fails otherwise.
   WhepSession(Pipeline& pipeline, std::string view, const std::string& peer, const std::string& offer_sdp, const H264Offer& offer,
@@ -76,7 +76,7 @@ class WhepSession {
 
   Pipeline& pipeline_;
   const std::string view_;
-  std::shared_ptr<Subscriber> subscriber_;
+  ViewSubscription subscriber_;
   GstElement* media_ = nullptr;
   GstElement* webrtc_ = nullptr;
   GstElement* appsrc_ = nullptr;

@@ -47,7 +47,7 @@ size_t CloudDelivery::subscriber_count() const {
   return subscribers_.size();
 }
 
-void CloudDelivery::close_all(grpc::StatusCode code, const std::string& reason) {
+void CloudDelivery::close_all(ErrorKind code, const std::string& reason) {
   for (const auto& s : subscribers()) s->close(code, reason);
 }
 
@@ -134,7 +134,7 @@ void CloudDelivery::deliver(const FrameSet& frames,
       const std::string reason = "source '" + source_ + "' cannot colour its cloud: " + e.what();
       if (!warned_frame_) std::cerr << "omniviewd: " << reason << "\n";
       warned_frame_ = true;
-      for (const auto& s : group) s->close(grpc::StatusCode::FAILED_PRECONDITION, reason);
+      for (const auto& s : group) s->close(ErrorKind::kFailedPrecondition, reason);
       continue;
     }
     const double colour_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -170,7 +170,7 @@ SharedCloud CloudDelivery::make_message(const PointCloud& coloured, const FrameS
   if (!T) {
     const std::string reason = "frame '" + shape.frame + "' is not connected to the cloud's frame '" +
                                coloured.frame + "' in source '" + source_ + "' (frames: " + frame_list(rig) + ")";
-    subscriber->close(grpc::StatusCode::INVALID_ARGUMENT, reason);
+    subscriber->close(ErrorKind::kInvalidArgument, reason);
     return nullptr;
   }
   shape.T_out_cloud = *T;

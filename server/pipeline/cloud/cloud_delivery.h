@@ -41,7 +41,7 @@ class CloudDelivery {
   void remove(const CloudSubscriber* subscriber);
   std::vector<std::shared_ptr<CloudSubscriber>> subscribers() const;
   size_t subscriber_count() const;
-  void close_all(grpc::StatusCode code, const std::string& reason);
+  void close_all(ErrorKind code, const std::string& reason);
 
   // Render worker only: every frame set of the source while someone watches its clouds,
   // so a cloud can take the image set nearest its own time (image_history.h).

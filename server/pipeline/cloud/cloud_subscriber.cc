@@ -25,12 +25,12 @@ void CloudSubscriber::offer(SharedCloud cloud, std::chrono::steady_clock::time_p
   ready_.notify_one();
 }
 
-void CloudSubscriber::close(grpc::StatusCode code, const std::string& reason) {
+void CloudSubscriber::close(ErrorKind code, const std::string& reason) {
   {
     std::lock_guard lock(mutex_);
     if (closed_) return;
     closed_ = true;
-    close_code_ = code;
+    close_kind_ = code;
     close_reason_ = reason;
   }
   ready_.notify_all();
@@ -44,9 +44,9 @@ std::optional<SharedCloud> CloudSubscriber::take(std::chrono::milliseconds timeo
   return std::nullopt;
 }
 
-grpc::StatusCode CloudSubscriber::close_code() const {
+ErrorKind CloudSubscriber::close_kind() const {
   std::lock_guard lock(mutex_);
-  return close_code_;
+  return close_kind_;
 }
 
 std::string CloudSubscriber::close_reason() const {

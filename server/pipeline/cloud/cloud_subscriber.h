@@ -12,7 +12,7 @@
 #include <optional>
 #include <string>
 
-#include <grpcpp/support/status_code_enum.h>
+#include "server/pipeline/errors.h"
 
 #include "omniview/v1/omniview.pb.h"
 #include "server/pipeline/cloud/cloud_request.h"
@@ -33,12 +33,12 @@ class CloudSubscriber {
   bool due(std::chrono::steady_clock::time_point now) const;
   void offer(SharedCloud cloud, std::chrono::steady_clock::time_point now);
   // Ends the stream with this status for the client; later offers are refused.
-  void close(grpc::StatusCode code, const std::string& reason);
+  void close(ErrorKind code, const std::string& reason);
 
   // Client side: waits up to `timeout` for a cloud. nullopt on timeout; a null cloud once
-  // closed (see close_code() and close_reason()).
+  // closed (see close_kind() and close_reason()).
   std::optional<SharedCloud> take(std::chrono::milliseconds timeout);
-  grpc::StatusCode close_code() const;
+  ErrorKind close_kind() const;
   std::string close_reason() const;
   void count_sent();
 
@@ -54,7 +54,7 @@ class CloudSubscriber {
   std::condition_variable ready_;
   SharedCloud slot_;
   bool closed_ = false;
-  grpc::StatusCode close_code_ = grpc::StatusCode::OK;
+  ErrorKind close_kind_ = ErrorKind::kCancelled;
   std::string close_reason_;
   std::chrono::steady_clock::time_point next_due_{};
   uint64_t sent_ = 0;

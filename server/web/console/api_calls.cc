@@ -3,6 +3,7 @@
 #include <grpcpp/server_context.h>
 
 #include "server/auth/permissions.h"
+#include "server/status/failure.h"
 #include "server/web/json/json.h"
 
 namespace omniview::web {
@@ -68,8 +69,8 @@ ApiCalls::Result ApiCalls::call(const std::string& method, const std::string& re
   }
   try {
     return it->second.run(request);
-  } catch (const std::exception& e) {
-    return {grpc::Status(grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what()), ""};
+  } catch (...) {
+    return {grpc_status(current_failure()), ""};
   }
 }
 

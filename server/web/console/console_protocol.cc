@@ -24,7 +24,7 @@ std::function<void(const AnySubscriber&)> ended_notice(std::weak_ptr<Connection>
   return [connection = std::move(connection), channel](const AnySubscriber& subscriber) {
     if (const auto c = connection.lock()) {
       c->send_text("{\"op\":\"ended\",\"channel\":" + std::to_string(channel) + ",\"error\":{\"code\":" +
-                   json::quote(code_name(subscriber.close_code())) +
+                   json::quote(status_name(subscriber.close_kind())) +
                    ",\"message\":" + json::quote(subscriber.close_reason()) + "}}");
     }
   };
@@ -60,8 +60,8 @@ void ConsoleProtocol::reply(std::optional<int64_t> id, const std::string& respon
   send("{\"op\":\"reply\",\"id\":" + (id ? std::to_string(*id) : "null") + ",\"response\":" + response_json + "}");
 }
 
-void ConsoleProtocol::fail(std::optional<int64_t> id, grpc::StatusCode code, const std::string& message) {
-  const std::string error = "{\"code\":" + json::quote(code_name(code)) + ",\"message\":" + json::quote(message) + "}";
+void ConsoleProtocol::fail(std::optional<int64_t> id, ErrorKind kind, const std::string& message) {
+  const std::string error = "{\"code\":" + json::quote(status_name(kind)) + ",\"message\":" + json::quote(message) + "}";
   if (id) {
     send("{\"op\":\"reply\",\"id\":" + std::to_string(*id) + ",\"error\":" + error + "}");
   } else {
@@ -88,22 +88,19 @@ void ConsoleProtocol::on_open() {
 
 void ConsoleProtocol::on_message(std::string_view data, bool binary) {
   if (binary) {
-    return fail(std::nullopt, grpc::StatusCode::INVALID_ARGUMENT,
+    return fail(std::nullopt, ErrorKind::kInvalidArgument,
                 "binary messages are not part of omniview.console.v1: send JSON text");
   }
   std::string error;
   const auto message = json::parse_object(data, &error);
-  if (!message) return fail(std::nullopt, grpc::StatusCode::INVALID_ARGUMENT, error);
+  if (!message) return fail(std::nullopt, ErrorKind::kInvalidArgument, error);
   std::optional<int64_t> id;
   try {
     id = json::integer_field(*message, "id", 0, int64_t{1} << 52);
     handle(*message, id);
-  } catch (const std::invalid_argument& e) {
-    fail(id, grpc::StatusCode::INVALID_ARGUMENT, e.what());
-  } catch (const ApiError& e) {
-    fail(id, e.code, e.what());
-  } catch (const std::exception& e) {
-    fail(id, grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
+  } catch (...) {
+    const Failure failure = current_failure();
+    fail(id, failure.kind, failure.message);
   }
 }
 
@@ -113,7 +110,7 @@ void ConsoleProtocol::handle(const json::Value& message, std::optional<int64_t> 
   if (*op == "auth") return authenticate(message, id);
   if (!caller_) {
     if (context_.auth.enabled()) {
-      return fail(id, grpc::StatusCode::UNAUTHENTICATED, "send {\"op\": \"auth\", \"token\": ...} first");
+      return fail(id, ErrorKind::kUnauthenticated, "send {\"op\": \"auth\", \"token\": ...} first");
     }
     caller_ = Caller{Role::kOperator, ""};
   }
@@ -123,7 +120,7 @@ void ConsoleProtocol::handle(const json::Value& message, std::optional<int64_t> 
     const std::string why = "'" + *op + "' needs the " + to_string(*needed) + " role; this connection's token is a " +
                             to_string(caller_->role) + " token";
     context_.refused(peer_, why);
-    return fail(id, grpc::StatusCode::PERMISSION_DENIED, why);
+    return fail(id, ErrorKind::kPermissionDenied, why);
   }
   if (*op == "call") return call(message, id);
   if (*op == "subscribe") return subscribe(message, id);
@@ -138,7 +135,7 @@ void ConsoleProtocol::authenticate(const json::Value& message, std::optional<int
   const grpc::Status s = context_.auth.check_header("Bearer " + token, Role::kViewer, &caller);
   if (!s.ok()) {
     context_.refused(peer_, s.error_message());
-    fail(id, s.error_code(), s.error_message());
+    fail(id, kind_of(s.error_code()), s.error_message());
     // A wrong token ends the connection: guessing costs a new connection each time.
     if (const auto c = connection_.lock()) c->close(1008, s.error_message());
     return;
@@ -155,16 +152,16 @@ void ConsoleProtocol::call(const json::Value& message, std::optional<int64_t> id
   if (!role) {
     std::string list;
     for (const auto& m : context_.calls.methods()) list += (list.empty() ? "" : ", ") + m;
-    return fail(id, grpc::StatusCode::UNIMPLEMENTED, "no method '" + *method + "' here (methods: " + list + ")");
+    return fail(id, ErrorKind::kUnimplemented, "no method '" + *method + "' here (methods: " + list + ")");
   }
   if (!role_allows(caller_->role, *role)) {
     const std::string why = *method + " needs the " + to_string(*role) + " role; this connection's token is a " +
                             to_string(caller_->role) + " token";
     context_.refused(peer_, why);
-    return fail(id, grpc::StatusCode::PERMISSION_DENIED, why);
+    return fail(id, ErrorKind::kPermissionDenied, why);
   }
   if (*calls_in_flight_ >= kMaxCallsInFlight) {
-    return fail(id, grpc::StatusCode::RESOURCE_EXHAUSTED,
+    return fail(id, ErrorKind::kResourceExhausted,
                 "more than " + std::to_string(kMaxCallsInFlight) + " calls in flight: wait for their replies");
   }
   const json::Value* request = json::find(message, "request");
@@ -180,7 +177,7 @@ void ConsoleProtocol::call(const json::Value& message, std::optional<int64_t> id
     try {  // call() turns errors into statuses; nothing may end the worker thread anyway
       result = calls->call(method, text);
     } catch (...) {
-      result.status = grpc::Status(grpc::StatusCode::INTERNAL, "internal error");
+      result.status = grpc_status(current_failure());
     }
     --*in_flight;
     const auto c = connection.lock();
@@ -189,7 +186,7 @@ void ConsoleProtocol::call(const json::Value& message, std::optional<int64_t> id
     if (result.status.ok()) {
       c->send_text(head + ",\"response\":" + result.response + "}");
     } else {
-      c->send_text(head + ",\"error\":{\"code\":" + json::quote(code_name(result.status.error_code())) +
+      c->send_text(head + ",\"error\":{\"code\":" + json::quote(status_name(kind_of(result.status.error_code()))) +
                    ",\"message\":" + json::quote(result.status.error_message()) + "}}");
     }
   });
@@ -197,7 +194,7 @@ void ConsoleProtocol::call(const json::Value& message, std::optional<int64_t> id
 
 bool ConsoleProtocol::check_stream_limit(std::optional<int64_t> id) {
   if (static_cast<int>(channels_.size()) < context_.limits.max_streams_per_client) return true;
-  fail(id, grpc::StatusCode::RESOURCE_EXHAUSTED,
+  fail(id, ErrorKind::kResourceExhausted,
        "at most " + std::to_string(context_.limits.max_streams_per_client) +
            " streams per connection (limits.max_streams_per_client): unsubscribe one first");
   return false;
@@ -220,15 +217,12 @@ void ConsoleProtocol::subscribe(const json::Value& message, std::optional<int64_
   const double rate = asked == 0 ? context_.limits.max_rate_hz : std::min(asked, context_.limits.max_rate_hz);
   const bool stale = json::bool_field(message, "stale_frames").value_or(true);
 
-  const auto subscriber = context_.pipeline.subscribe(*view, peer_ + " (web)", key, rate, stale);  // NOT_FOUND: ApiError
+  auto subscription = context_.pipeline.subscribe(*view, peer_ + " (web)", key, rate, stale);  // or NOT_FOUND
   const uint32_t channel = next_channel_++;
   auto source = subscriber_source(
-      subscriber, [channel](const SharedFrame& frame) { return frame_message(channel, frame); },
+      subscription.shared(), [channel](const SharedFrame& frame) { return frame_message(channel, frame); },
       ended_notice<Subscriber>(connection_, channel));
-  channels_.try_emplace(channel, connection_, channel, std::move(source),
-                        [&pipeline = context_.pipeline, view = *view, subscriber] {
-                          pipeline.unsubscribe(view, subscriber.get());
-                        });
+  channels_.try_emplace(channel, connection_, channel, std::move(source), release_of(std::move(subscription)));
   reply(id, "{\"channel\":" + std::to_string(channel) + ",\"view\":" + json::quote(*view) +
                 ",\"maxRateHz\":" + number_text(rate) + ",\"encoding\":" + json::quote(to_string(key)) + "}");
 }
@@ -242,20 +236,17 @@ void ConsoleProtocol::subscribe_cloud(const json::Value& message, std::optional<
       throw std::invalid_argument("request is not a StreamCloudsRequest: " + error);
     }
   }
-  if (const grpc::Status s = check_request_bounds(request); !s.ok()) return fail(id, s.error_code(), s.error_message());
+  if (const grpc::Status s = check_request_bounds(request); !s.ok()) return fail(id, kind_of(s.error_code()), s.error_message());
   if (!check_stream_limit(id)) return;
   const double rate = request.max_rate_hz() == 0 ? context_.limits.max_rate_hz
                                                  : std::min(request.max_rate_hz(), context_.limits.max_rate_hz);
-  const auto subscriber = context_.pipeline.subscribe_cloud(request.source(), peer_ + " (web)",
-                                                            cloud_request_from_proto(request.options()), rate);
+  auto subscription = context_.pipeline.subscribe_cloud(request.source(), peer_ + " (web)",
+                                                        cloud_request_from_proto(request.options()), rate);
   const uint32_t channel = next_channel_++;
   auto source = subscriber_source(
-      subscriber, [channel](const SharedCloud& cloud) { return cloud_message(channel, cloud); },
+      subscription.shared(), [channel](const SharedCloud& cloud) { return cloud_message(channel, cloud); },
       ended_notice<CloudSubscriber>(connection_, channel));
-  channels_.try_emplace(channel, connection_, channel, std::move(source),
-                        [&pipeline = context_.pipeline, source = request.source(), subscriber] {
-                          pipeline.unsubscribe_cloud(source, subscriber.get());
-                        });
+  channels_.try_emplace(channel, connection_, channel, std::move(source), release_of(std::move(subscription)));
   reply(id, "{\"channel\":" + std::to_string(channel) + ",\"maxRateHz\":" + number_text(rate) + "}");
 }
 
@@ -263,7 +254,7 @@ void ConsoleProtocol::unsubscribe(const json::Value& message, std::optional<int6
   const auto channel = json::integer_field(message, "channel", 0, UINT32_MAX);
   if (!channel) throw std::invalid_argument("'unsubscribe' needs a 'channel'");
   if (!channels_.count(static_cast<uint32_t>(*channel))) {
-    return fail(id, grpc::StatusCode::NOT_FOUND, "no channel " + std::to_string(*channel) + " on this connection");
+    return fail(id, ErrorKind::kNotFound, "no channel " + std::to_string(*channel) + " on this connection");
   }
   channels_.erase(static_cast<uint32_t>(*channel));  // Stream's end stops its pump and leaves the pipeline
   reply(id, "{}");

@@ -42,7 +42,7 @@ class ConsoleProtocol : public Protocol {
   void unsubscribe(const json::Value& message, std::optional<int64_t> id);
 
   void reply(std::optional<int64_t> id, const std::string& response_json);
-  void fail(std::optional<int64_t> id, grpc::StatusCode code, const std::string& message);
+  void fail(std::optional<int64_t> id, ErrorKind kind, const std::string& message);
   void send(std::string text);
 
   std::weak_ptr<Connection> connection_;

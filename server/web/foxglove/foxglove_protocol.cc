@@ -123,8 +123,8 @@ void FoxgloveProtocol::on_message(std::string_view data, bool binary) {
     if (*op == "subscribe") return subscribe(*message);
     if (*op == "unsubscribe") return unsubscribe(*message);
     status(2, "op '" + *op + "' is not supported by omniviewd (it serves subscribe and unsubscribe)");
-  } catch (const std::exception& e) {
-    status(2, e.what());
+  } catch (...) {
+    status(2, current_failure().message);
   }
 }
 
@@ -144,10 +144,8 @@ void FoxgloveProtocol::subscribe(const json::Value& message) {
         continue;
       }
       start(static_cast<uint32_t>(*id), static_cast<uint32_t>(*channel));
-    } catch (const ApiError& e) {
-      status(2, e.what());
-    } catch (const std::invalid_argument& e) {
-      status(2, e.what());
+    } catch (...) {
+      status(2, current_failure().message);
     }
   }
 }
@@ -202,24 +200,21 @@ void FoxgloveProtocol::start(uint32_t id, uint32_t channel_id) {
     // video subscriber joins its group's one encoder at a key frame, and after a frame it
     // could not take skips to the next key frame (Subscriber), so no broken picture.
     const v1::Encoding encoding = channel.kind == Kind::kVideo ? v1::H264 : v1::JPEG;
-    const auto subscriber =
+    auto subscription =
         context_.pipeline.subscribe(channel.target, peer, encoding_key(encoding, 0, false), context_.limits.max_rate_hz);
-    release = [&pipeline = context_.pipeline, view = channel.target, subscriber] {
-      pipeline.unsubscribe(view, subscriber.get());
-    };
     const std::string frame_id = foxglove_io::view_optical_frame(channel.target);
-    source = subscriber_source(subscriber, foxglove_io::frame_data(id, channel.kind, frame_id),
+    source = subscriber_source(subscription.shared(), foxglove_io::frame_data(id, channel.kind, frame_id),
                                foxglove_io::ended_status<Subscriber>(connection_, channel.topic));
+    release = release_of(std::move(subscription));
   } else if (channel.kind == Kind::kCloud) {
     v1::CloudOptions options;
     options.set_voxel_size_m(0.05);  // a few cm: what a 3D panel shows well, a tenth of the bytes
-    const auto subscriber = context_.pipeline.subscribe_cloud(channel.target, peer, cloud_request_from_proto(options),
-                                                              std::min(10.0, context_.limits.max_rate_hz));
-    release = [&pipeline = context_.pipeline, src = channel.target, subscriber] {
-      pipeline.unsubscribe_cloud(src, subscriber.get());
-    };
-    source = subscriber_source(subscriber, [id](const SharedCloud& cloud) { return foxglove_io::cloud_data(id, cloud); },
+    auto subscription = context_.pipeline.subscribe_cloud(channel.target, peer, cloud_request_from_proto(options),
+                                                          std::min(10.0, context_.limits.max_rate_hz));
+    source = subscriber_source(subscription.shared(),
+                               [id](const SharedCloud& cloud) { return foxglove_io::cloud_data(id, cloud); },
                                foxglove_io::ended_status<CloudSubscriber>(connection_, channel.topic));
+    release = release_of(std::move(subscription));
   } else {
     source = foxglove_io::transforms_source(id, context_.pipeline);
   }

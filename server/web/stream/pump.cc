@@ -2,11 +2,9 @@
 
 #include <iostream>
 
-namespace omniview::web {
+#include "server/pipeline/subscription.h"
 
-namespace {
-constexpr auto kPoll = std::chrono::milliseconds(100);  // how often a waiting take() checks for stop
-}
+namespace omniview::web {
 
 Pump::Pump(std::weak_ptr<Connection> connection, uint32_t channel, Source source) {
   core_->connection = std::move(connection);
@@ -58,7 +56,7 @@ void Pump::run(const std::shared_ptr<Core>& core) {
       std::lock_guard lock(core->mutex);
       if (core->stop) return;
     }
-    Item item = core->source.take(kPoll);
+    Item item = core->source.take(kFrontEndPoll);
     if (item.kind == Item::kNothing) continue;
     if (item.kind == Item::kEnd) {
       if (core->source.ended) core->source.ended();

@@ -8,7 +8,8 @@
 #include <functional>
 #include <memory>
 
-#include <grpcpp/support/status_code_enum.h>
+#include "server/pipeline/errors.h"
+#include "server/pipeline/subscription.h"
 
 #include "server/web/stream/pump.h"
 
@@ -38,14 +39,21 @@ Pump::Source subscriber_source(std::shared_ptr<AnySubscriber> subscriber, ToMess
   };
   if constexpr (requires { subscriber->count_sent(); }) source.sent = [subscriber] { subscriber->count_sent(); };
   source.ended = [subscriber, ended = std::move(ended)] { ended(*subscriber); };
-  source.interrupt = [subscriber] { subscriber->close(grpc::StatusCode::CANCELLED, "unsubscribed"); };
+  source.interrupt = [subscriber] { subscriber->close(ErrorKind::kCancelled, "unsubscribed"); };
   return source;
+}
+
+// A Stream's `release` that ends `subscription` (leaves the pipeline) at stop().
+template <class S>
+std::function<void()> release_of(Subscription<S> subscription) {
+  auto held = std::make_shared<Subscription<S>>(std::move(subscription));
+  return [held] { held->reset(); };
 }
 
 class Stream {
  public:
   // Starts pumping `source` to `channel` of the connection. `release` leaves the pipeline
-  // (the subscriber's unsubscribe); it runs once, at stop().
+  // (release_of the subscription); it runs once, at stop().
   Stream(std::weak_ptr<Connection> connection, uint32_t channel, Pump::Source source, std::function<void()> release);
   ~Stream();
   Stream(const Stream&) = delete;
