@@ -40,9 +40,7 @@ CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(ri
     auto s = std::make_shared<CameraSetup>();
     s->usable = usable_region(cam);
     s->all_usable = static_cast<size_t>(cv::countNonZero(s->usable)) == s->usable.total();
-    s->cx = static_cast<float>((cam.width - 1) / 2.0);
-    s->cy = static_cast<float>((cam.height - 1) / 2.0);
-    s->inv_half_diag2 = 4.0f / static_cast<float>(cam.width * cam.width + cam.height * cam.height);
+    s->centre = CentreScore::of(cam);
     s->px_per_rad = cloud_internal::pixels_per_radian(cam);
     cameras_.push_back(std::move(s));
   }

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "core/camera/camera.h"
+#include "core/camera/centre_score.h"
 #include "core/cloud/colourer.h"
 
 namespace omniview {
@@ -27,7 +28,7 @@ struct CloudColourer::CameraSetup {
   double feather_px = -1;
   float cell_px = 1;  // depth buffer cell
   double px_per_rad = 1;
-  float cx = 0, cy = 0, inv_half_diag2 = 1;
+  CentreScore centre;  // the fusion criterion, the same as the views' (core/camera/centre_score.h)
   bool all_usable = false;  // no mask, no lens limit: every pixel of the image may colour
 };
 

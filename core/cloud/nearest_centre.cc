@@ -39,7 +39,7 @@ ColourStats CloudColourer::nearest_centre(PointCloud& cloud, const CameraImages&
     if (!pass.active) continue;
     const CameraSetup& s = *cameras_[c];
     // Locals for everything the loop reads: its byte stores could alias any of it.
-    const float cx = s.cx, cy = s.cy, inv_half_diag2 = s.inv_half_diag2;
+    const CentreScore centre = s.centre;
     const float inv_cell = pass.inv_cell, offset = pass.offset;
     const size_t cols = static_cast<size_t>(pass.cols);
     const float* __restrict occluder = options.occlusion ? pass.occluder.data() : nullptr;
@@ -58,8 +58,7 @@ ColourStats CloudColourer::nearest_centre(PointCloud& cloud, const CameraImages&
       for (size_t k = first; k < last; ++k) {
         const size_t j = index[k] - begin;
         const float u = seen_u[k], v = seen_v[k];
-        const float du = u - cx, dv = v - cy;
-        const float score = (du * du + dv * dv) * inv_half_diag2;
+        const float score = centre(u, v);
         // The depth test only where this camera would win: a point some camera already
         // colours is never flagged hidden, so a losing camera need not look.
         if (score < best_score[j]) {

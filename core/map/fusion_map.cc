@@ -39,10 +39,7 @@ CameraSetup make_setup(const Rig& rig, size_t index, const Pose& T_frame_view,
   s.max_v = static_cast<float>(cam.height - 1);
   s.limits = SampleLimits{s.max_u, s.max_v, static_cast<float>(cam.width - 2), static_cast<float>(cam.height - 2),
                           cam.width};
-  s.centre_u = s.max_u / 2;
-  s.centre_v = s.max_v / 2;
-  s.inv_w = 1.0f / static_cast<float>(cam.width);
-  s.inv_h = 1.0f / static_cast<float>(cam.height);
+  s.centre = CentreScore::of(cam);
   if (blend) {
     s.feather = feather_weights(cam, feather_px);
     const Eigen::Vector3d c = T_cam_view.inverse().translation();

@@ -9,6 +9,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/camera/centre_score.h"
 #include "core/map/fusion_map.h"
 
 namespace omniview::map_internal {
@@ -31,7 +32,7 @@ struct CameraSetup {
   float cos_half_fov = -1, cos2_half_fov = 1;
   float max_u = 0, max_v = 0;  // last pixel centre
   SampleLimits limits;
-  float centre_u = 0, centre_v = 0, inv_w = 0, inv_h = 0;
+  CentreScore centre;  // the fusion criterion (core/camera/centre_score.h)
   cv::Mat feather;  // blend only: CV_32F weight in [0, 1] per camera pixel
   // Blend only: the camera's centre in the view frame (for parallax), and how fast its
   // weight falls with distance from the image centre (see build_rows_exact).
@@ -53,8 +54,8 @@ struct RowScratch {
 
 // Projects one row of surface points into one camera. Written without branches so GCC
 // vectorises it once `project` is inlined for the concrete model. score is the paper's
-// fusion criterion: squared distance from the image centre, normalised by image size so
-// cameras of different resolution compete fairly; kInvalid where the camera cannot see.
+// fusion criterion (CentreScore, shared with the cloud colourer); kInvalid where the camera
+// cannot see.
 template <typename Model>
 [[gnu::always_inline]] inline void project_row(const Model& model, const CameraSetup& c, int n, const float* __restrict x,
                  const float* __restrict y, const float* __restrict z, const uint8_t* __restrict valid,
@@ -72,10 +73,9 @@ template <typename Model>
     const bool in_cone = (c.wide_fov & in_wide_cone) | (!c.wide_fov & in_narrow_cone);
     ok = ok & (valid[i] != 0) & (!c.limit_fov | in_cone);
     ok = ok & (u >= 0.0f) & (v >= 0.0f) & (u <= c.max_u) & (v <= c.max_v);
-    const float du = (u - c.centre_u) * c.inv_w, dv = (v - c.centre_v) * c.inv_h;
     out_u[i] = u;
     out_v[i] = v;
-    score[i] = ok ? du * du + dv * dv : kInvalid;
+    score[i] = ok ? c.centre(u, v) : kInvalid;
   }
 }
 
