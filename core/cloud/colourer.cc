@@ -48,17 +48,34 @@ CloudColourer::CloudColourer(std::shared_ptr<const Rig> rig) : rig_(std::move(ri
 
 CloudColourer::~CloudColourer() = default;
 
+// The steps, in order: check everything before any work (a bad image throws before threads
+// start), move the points to where they were at the cloud's stamp, project them into every
+// camera (depth buffers for occlusion), then fuse each point's cameras.
 ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
                                   const Trajectory* motion) {
+  const Pose T_base_cloud = check_inputs(cloud, input);
+  const bool sync = options.time_sync && motion && !motion->empty();
+  deskew(cloud, T_base_cloud, sync ? motion : nullptr, options.motion_bin_s);
+  // Outputs, once nothing can throw.
+  const size_t n = cloud.size();
+  if (cloud.rgb.empty()) cloud.rgb.assign(n, {0, 0, 0});
+  if (cloud.flags.empty()) cloud.flags.assign(n, 0);
+  cloud.camera.resize(n);  // fusion writes every point's camera, flags and stats
+  project_into_cameras(cloud, input, options, T_base_cloud, sync ? motion : nullptr);
+  return fuse(cloud, input, options);
+}
+
+// The cloud's fields, the images' sizes and types, the stamps and the cloud's frame; the
+// rig's default frame from the cloud's.
+Pose CloudColourer::check_inputs(const PointCloud& cloud, const CameraImages& input) const {
   cloud.check("cloud");
   const Rig& rig = *rig_;
-  const size_t n = cloud.size();
   const size_t n_cams = rig.cameras().size();
   if (input.images.size() != n_cams) {
     throw std::invalid_argument("colouring: " + std::to_string(input.images.size()) + " images for " +
                                 std::to_string(n_cams) + " cameras");
   }
-  if (n > std::numeric_limits<uint32_t>::max()) {
+  if (cloud.size() > std::numeric_limits<uint32_t>::max()) {
     throw std::invalid_argument("colouring: more than 2^32 points");  // points are indexed with 32 bits
   }
   if (!input.stamps.empty() && input.stamps.size() != n_cams) {
@@ -71,9 +88,6 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
     throw std::invalid_argument("colouring: the cloud's frame '" + cloud_frame + "' is not connected to the rig's frame '" +
                                 base + "'");
   }
-  const bool sync = options.time_sync && motion && !motion->empty();
-
-  // Checks before any work, so that a bad image throws before threads start.
   for (size_t c = 0; c < n_cams; ++c) {
     const cv::Mat& image = input.images[c];
     const Camera& cam = rig.cameras()[c];
@@ -85,14 +99,20 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
                                   std::to_string(cam.height) + " 8-bit grey or BGR");
     }
   }
+  return *T_base_cloud;
+}
 
-  // The points where they were at the cloud's stamp (per-point times: one correction per bin).
+// x_, y_, z_: the points where they were at the cloud's stamp. With `motion` and per-point
+// times, one correction per time bin of `bin_s`; otherwise a plain copy.
+void CloudColourer::deskew(const PointCloud& cloud, const Pose& T_base_cloud, const Trajectory* motion,
+                           double bin_s) {
+  const size_t n = cloud.size();
   x_.resize(n);
   y_.resize(n);
   z_.resize(n);
-  if (sync && !cloud.time.empty()) {
-    const double bin = std::max(1e-5, options.motion_bin_s);
-    const Pose T_cloud_base = T_base_cloud->inverse();
+  if (motion && !cloud.time.empty()) {
+    const double bin = std::max(1e-5, bin_s);
+    const Pose T_cloud_base = T_base_cloud.inverse();
     float t_min = std::numeric_limits<float>::max(), t_max = std::numeric_limits<float>::lowest();
     for (float t : cloud.time) {
       if (std::isfinite(t)) {
@@ -108,7 +128,7 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
     for (size_t k = 0; k < bins; ++k) {
       const auto t = cloud.stamp + std::chrono::duration_cast<std::chrono::system_clock::duration>(
                                        std::chrono::duration<double>(t_min + (k + 0.5) * bin));
-      corrections[k] = to_float(T_cloud_base * motion->relative(cloud.stamp, t) * *T_base_cloud);
+      corrections[k] = to_float(T_cloud_base * motion->relative(cloud.stamp, t) * T_base_cloud);
     }
     for_blocks(n, [&](size_t begin, size_t end) {
       for (size_t i = begin; i < end; ++i) {
@@ -120,26 +140,30 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
         z_[i] = p.z();
       }
     });
-  } else {
-    // On this thread, not the pool: a copy bound by memory, which handed to the pool made
-    // the whole colouring slower (300 k points on 2 threads: 6.2 -> 4.0 ms without it).
-    for (size_t i = 0; i < n; ++i) {
-      x_[i] = cloud.points[i].x();
-      y_[i] = cloud.points[i].y();
-      z_[i] = cloud.points[i].z();
-    }
+    return;
   }
+  // On this thread, not the pool: a copy bound by memory, which handed to the pool made
+  // the whole colouring slower (300 k points on 2 threads: 6.2 -> 4.0 ms without it).
+  for (size_t i = 0; i < n; ++i) {
+    x_[i] = cloud.points[i].x();
+    y_[i] = cloud.points[i].y();
+    z_[i] = cloud.points[i].z();
+  }
+}
 
-  // Outputs, once nothing can throw.
-  if (cloud.rgb.empty()) cloud.rgb.assign(n, {0, 0, 0});
-  if (cloud.flags.empty()) cloud.flags.assign(n, 0);
-  cloud.camera.resize(n);  // phase 2 writes every point's camera, flags and stats
+// Phase 1: every point projected into each camera with an image (`motion`: each camera's
+// pose at its own stamp), the depth buffers splatted and what covers each cell found.
+void CloudColourer::project_into_cameras(const PointCloud& cloud, const CameraImages& input,
+                                         const ColourOptions& options, const Pose& T_base_cloud,
+                                         const Trajectory* motion) {
+  const Rig& rig = *rig_;
+  const size_t n = cloud.size();
+  const size_t n_cams = rig.cameras().size();
+  const std::string& base = rig.default_frame();
   const bool blend = options.fusion == Fusion::kBlend;
-
-  // Phase 1: project every point into each camera, splat the depth buffers and find what
-  // covers each cell. Tasks are (camera x point range), as many ranges as threads, each
-  // range with a depth buffer of its own, merged after: five cameras on two threads would
-  // leave one idle for a third of the time if a task were a camera.
+  // Tasks are (camera x point range), as many ranges as threads, each range with a depth
+  // buffer of its own, merged after: five cameras on two threads would leave one idle for a
+  // third of the time if a task were a camera.
   passes_.resize(n_cams);
   const int reach = std::max(1, int(std::lround(options.occlusion_reach_deg / options.occlusion_cell_deg)));
   const size_t ranges = std::clamp<size_t>(static_cast<size_t>(cv::getNumThreads()), 1, std::max<size_t>(1, n / 4096));
@@ -151,8 +175,8 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
     const Camera& cam = rig.cameras()[c];
     const CameraSetup& s = *cameras_[c];
     const auto t_cam = input.stamps.empty() ? cloud.stamp : input.stamps[c];
-    const Pose motion_fix = sync ? motion->relative(t_cam, cloud.stamp) : Pose::Identity();
-    T_cam_cloud[c] = to_float(rig.camera_pose(base, c).inverse() * motion_fix * *T_base_cloud);
+    const Pose motion_fix = motion ? motion->relative(t_cam, cloud.stamp) : Pose::Identity();
+    T_cam_cloud[c] = to_float(rig.camera_pose(base, c).inverse() * motion_fix * T_base_cloud);
     pass.seen.resize(ranges);
     cloud_internal::size_depth_buffer(pass, cam, s.px_per_rad, options.occlusion_cell_deg, reach);
     pass.depth.resize(options.occlusion ? ranges : 0);
@@ -214,8 +238,12 @@ ColourStats CloudColourer::colour(PointCloud& cloud, const CameraImages& input, 
       if (ranges_left[c].fetch_sub(1, std::memory_order_acq_rel) == 1) finish_camera(c);
     }
   });
+}
 
-  // Phase 2, points in chunks: pick (or blend) the cameras that see each point unhidden.
+// Phase 2, points in chunks: pick (or blend) the cameras that see each point unhidden.
+ColourStats CloudColourer::fuse(PointCloud& cloud, const CameraImages& input, const ColourOptions& options) const {
+  const size_t n = cloud.size();
+  const bool blend = options.fusion == Fusion::kBlend;
   std::atomic<size_t> coloured{0}, occluded{0}, self_filtered{0}, unseen{0};
   for_blocks(n, [&](size_t begin, size_t end) {
     const ColourStats chunk = blend ? this->blend(cloud, input, options, begin, end)

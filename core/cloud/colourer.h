@@ -102,6 +102,12 @@ class CloudColourer {
   std::shared_ptr<const Rig> rig_;
   std::vector<std::shared_ptr<CameraSetup>> cameras_;
   using CameraPass = cloud_internal::CameraPass;
+  // colour()'s steps (colourer.cc says what each does).
+  Pose check_inputs(const PointCloud& cloud, const CameraImages& input) const;
+  void deskew(const PointCloud& cloud, const Pose& T_base_cloud, const Trajectory* motion, double bin_s);
+  void project_into_cameras(const PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
+                            const Pose& T_base_cloud, const Trajectory* motion);
+  ColourStats fuse(PointCloud& cloud, const CameraImages& input, const ColourOptions& options) const;
   // Phase 2 of colour() on points [begin, end): nearest-centre fusion, or a feathered blend.
   // Each sets every point's flags and camera, and counts them (all but ColourStats::points).
   ColourStats nearest_centre(PointCloud& cloud, const CameraImages& input, const ColourOptions& options,
