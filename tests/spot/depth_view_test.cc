@@ -253,7 +253,14 @@ TEST_F(DepthViews, AMeasuredViewStandsOnTheLidarsSceneWhereTheFixedOneGuesses) {
 
   // The pictures against what a camera at the view's pose sees of the scene: all of it,
   // and the wall the lidar reaches (where the two surfaces differ).
-  const v1::Frame f_fixed = fixed.get(), f_measured = measured.get();
+  // The picture compared is one that says it stood on measured depth: the newest frame may
+  // be older than the status read above (a starved source delivers seconds apart under a
+  // sanitizer), or made while the lidar was quiet, on the fixed surface (an ASan rehearsal
+  // read 0.04 fps, and its newest frame was such a one).
+  v1::Frame f_measured;
+  ASSERT_TRUE(eventually_within([&] { return (f_measured = measured.get()).measured_depth() > 0.2; }, 30s))
+      << "measured_depth of the newest frame " << f_measured.measured_depth() << "\n" << daemon_->log();
+  const v1::Frame f_fixed = fixed.get();
   const Truth truth = ray_cast(f_measured.camera());
   if (const char* dir = std::getenv("OMNIVIEW_DEPTH_DUMP")) {  // the pictures, to look at
     const auto grey = [](const v1::Frame& f) { return cv::Mat(f.height(), f.width(), CV_8UC1, const_cast<char*>(f.data().data())); };
@@ -319,7 +326,14 @@ TEST_F(DepthImagesOnly, AMeasuredViewStandsOnTheDepthCamerasAlone) {
       << daemon_->log();
   EXPECT_EQ(mock_->counter("get_point_cloud_calls"), 0) << "a lidar cloud was asked for with point_cloud_source: none";
   EXPECT_EQ(view_status("measured").depth_message(), "");
-  const v1::Frame f_fixed = fixed.get(), f_measured = measured.get();
+  // The picture compared is one that says it stood on measured depth: the newest frame may
+  // be older than the status read above (a starved source delivers seconds apart under a
+  // sanitizer), or made while the lidar was quiet, on the fixed surface (an ASan rehearsal
+  // read 0.04 fps, and its newest frame was such a one).
+  v1::Frame f_measured;
+  ASSERT_TRUE(eventually_within([&] { return (f_measured = measured.get()).measured_depth() > 0.2; }, 30s))
+      << "measured_depth of the newest frame " << f_measured.measured_depth() << "\n" << daemon_->log();
+  const v1::Frame f_fixed = fixed.get();
   const Truth truth = ray_cast(f_measured.camera());
   const double db_fixed = psnr(f_fixed, truth), db_measured = psnr(f_measured, truth);
   std::cout << "depth images only: PSNR fixed " << db_fixed << " dB, measured " << db_measured << " dB, "
