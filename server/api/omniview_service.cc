@@ -90,7 +90,12 @@ grpc::Status OmniviewService::ListCameras(grpc::ServerContext* ctx, const v1::Li
   OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
-    for (auto& c : pipeline_.cameras(req->source())) *resp->add_cameras() = std::move(c);
+    for (const SourceCamera& c : pipeline_.cameras(req->source())) {
+      v1::Camera* out = resp->add_cameras();
+      *out = to_proto(c.rig->cameras()[c.index], *c.rig, c.source);
+      out->set_calibration_check(c.calibration_check);
+      out->set_calibration_warning(c.calibration_warning);
+    }
     return grpc::Status::OK;
   });
 }
@@ -129,7 +134,10 @@ grpc::Status OmniviewService::UpdateView(grpc::ServerContext* ctx, const v1::Upd
   OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
-    *resp = pipeline_.update_view(req->name(), req->set(), req->delta());
+    *resp = pipeline_.update_view(req->name(), [&](ViewSpec& spec) {
+      apply_patch(req->set(), spec);
+      apply_delta(req->delta(), spec);
+    });
     return grpc::Status::OK;
   });
 }
@@ -237,7 +245,15 @@ grpc::Status OmniviewService::PixelToRay(grpc::ServerContext* ctx, const v1::Pix
         << spec.height() << ": u in [-0.5, " << spec.width() - 0.5 << "], v in [-0.5, " << spec.height() - 0.5 << "])";
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, m.str());
     }
-    *resp = pipeline_.pixel_to_ray(req->view(), u, v);
+    const PixelRay ray = pipeline_.pixel_to_ray(req->view(), u, v);
+    resp->set_robot_frame(ray.robot_frame);
+    *resp->mutable_origin() = to_proto(ray.origin);
+    resp->set_valid(ray.valid);
+    if (ray.valid) {
+      *resp->mutable_direction() = to_proto(ray.direction);
+      *resp->mutable_direction_view() = to_proto(ray.direction_view);
+    }
+    if (ray.surface_point) *resp->mutable_surface_point() = to_proto(*ray.surface_point);
     return grpc::Status::OK;
   });
 }
@@ -247,7 +263,11 @@ grpc::Status OmniviewService::PointToPixel(grpc::ServerContext* ctx, const v1::P
   OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
-    *resp = pipeline_.point_to_pixel(req->view(), from_proto(req->point()), req->frame());
+    if (const auto uv = pipeline_.point_to_pixel(req->view(), from_proto(req->point()), req->frame())) {
+      resp->set_visible(true);
+      resp->set_u(uv->x());
+      resp->set_v(uv->y());
+    }
     return grpc::Status::OK;
   });
 }

@@ -137,24 +137,24 @@ std::shared_ptr<const Rig> Pipeline::rig(const std::string& source) const {
   return ch.source().rig();
 }
 
-std::vector<v1::Camera> Pipeline::cameras(const std::string& source) const {
-  std::vector<v1::Camera> out;
+std::vector<SourceCamera> Pipeline::cameras(const std::string& source) const {
+  std::vector<SourceCamera> out;
   for (const auto& c : channels_) {
     if (!source.empty() && c->source().name() != source) continue;
     const auto r = rig(c->source().name());
     const auto checks = c->source().camera_checks();
-    for (const auto& cam : r->cameras()) {
-      out.push_back(to_proto(cam, *r, c->source().name()));
+    for (size_t i = 0; i < r->cameras().size(); ++i) {
+      SourceCamera camera{c->source().name(), r, i, "", false};
       for (const auto& check : checks) {
-        if (check.camera != cam.name) continue;
-        out.back().set_calibration_check(check.summary);
-        out.back().set_calibration_warning(check.warning);
+        if (check.camera != r->cameras()[i].name) continue;
+        camera.calibration_check = check.summary;
+        camera.calibration_warning = check.warning;
       }
+      out.push_back(std::move(camera));
     }
   }
   if (!source.empty() && out.empty()) channel(source);  // throws NOT_FOUND for an unknown name
   return out;
 }
-
 
 }  // namespace omniview

@@ -26,6 +26,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -59,6 +60,24 @@ struct PipelineLimits {
   TapLimits record_queue;  // per recording client (StreamSourceFrames)
 };
 
+// One camera of a source, as ListCameras describes it.
+struct SourceCamera {
+  std::string source;
+  std::shared_ptr<const Rig> rig;
+  size_t index = 0;  // into rig->cameras()
+  std::string calibration_check;  // what the source's check of the calibration found
+  bool calibration_warning = false;
+};
+
+// The ray of a view's pixel, in the robot frame (PixelToRay).
+struct PixelRay {
+  std::string robot_frame;
+  Vec3 origin = Vec3::Zero();
+  bool valid = false;  // the pixel has a ray (a fisheye view's corners do not)
+  Vec3 direction = Vec3::Zero(), direction_view = Vec3::Zero();  // unit; robot and view frame
+  std::optional<Vec3> surface_point;  // where the ray meets the view's surface (robot frame)
+};
+
 class Pipeline {
  public:
   explicit Pipeline(PipelineLimits limits = {});
@@ -75,14 +94,22 @@ class Pipeline {
   void stop(const std::string& reason);
 
   // All of these throw PipelineError (NOT_FOUND, INVALID_ARGUMENT, ALREADY_EXISTS, ...).
-  std::vector<v1::Camera> cameras(const std::string& source) const;
+  // Every camera of `source` ("" = all sources), with its calibration check.
+  std::vector<SourceCamera> cameras(const std::string& source) const;
+  // A view's description is the wire's v1::View on purpose: it is made once per revision
+  // and rides in every frame of the view (v1::Frame.camera), which every client of every
+  // front end shares by pointer.
   v1::View create_view(ViewSpec spec);
-  v1::View update_view(const std::string& name, const v1::ViewSpec& set, const v1::ViewDelta& delta);
+  // `change` edits a copy of the view's spec (a front end's patch and joystick step);
+  // std::invalid_argument from it is INVALID_ARGUMENT.
+  v1::View update_view(const std::string& name, const std::function<void(ViewSpec&)>& change);
   void delete_view(const std::string& name);
   v1::View get_view(const std::string& name) const;
   std::vector<v1::View> list_views() const;
-  v1::PixelToRayResponse pixel_to_ray(const std::string& view, double u, double v) const;
-  v1::PointToPixelResponse point_to_pixel(const std::string& view, const Vec3& point, const std::string& frame) const;
+  PixelRay pixel_to_ray(const std::string& view, double u, double v) const;
+  // Where `point` (in `frame`, "" = the robot frame) appears in the view; nullopt where it
+  // does not (behind the view, outside its image).
+  std::optional<Vec2> point_to_pixel(const std::string& view, const Vec3& point, const std::string& frame) const;
 
   // `stale_frames`: the client wants its view's last picture again, marked, while the
   // source is silent (staleness.h).

@@ -139,14 +139,13 @@ v1::View Pipeline::create_view(ViewSpec spec) {
   return *state->description;
 }
 
-v1::View Pipeline::update_view(const std::string& name, const v1::ViewSpec& set, const v1::ViewDelta& delta) {
+v1::View Pipeline::update_view(const std::string& name, const std::function<void(ViewSpec&)>& change_spec) {
   auto view = find_view(name);
   std::lock_guard change(view->change_mutex());
   const auto old = view->state();
   ViewSpec spec = old->spec;
   try {
-    apply_patch(set, spec);
-    apply_delta(delta, spec);
+    change_spec(spec);
   } catch (const std::invalid_argument& e) {
     throw PipelineError(ErrorKind::kInvalidArgument, e.what());
   }
@@ -196,24 +195,24 @@ std::vector<v1::View> Pipeline::list_views() const {
   return out;
 }
 
-v1::PixelToRayResponse Pipeline::pixel_to_ray(const std::string& name, double u, double v) const {
+PixelRay Pipeline::pixel_to_ray(const std::string& name, double u, double v) const {
   const auto state = find_view(name)->state();
-  v1::PixelToRayResponse r;
-  r.set_robot_frame(state->description->robot_frame());
-  *r.mutable_origin() = to_proto(Vec3(state->T_robot_view.translation()));
+  PixelRay r;
+  r.robot_frame = state->description->robot_frame();
+  r.origin = state->T_robot_view.translation();
   Vec3 dir;
   if (!std::isfinite(u) || !std::isfinite(v) || !state->view->pixel_to_direction(u, v, dir)) return r;
   dir.normalize();
-  r.set_valid(true);
-  *r.mutable_direction_view() = to_proto(dir);
-  *r.mutable_direction() = to_proto(Vec3(state->T_robot_view.linear() * dir));
+  r.valid = true;
+  r.direction_view = dir;
+  r.direction = state->T_robot_view.linear() * dir;
   Vec3 point;
-  if (state->view->pixel_to_point(u, v, point)) *r.mutable_surface_point() = to_proto(Vec3(state->T_robot_view * point));
+  if (state->view->pixel_to_point(u, v, point)) r.surface_point = state->T_robot_view * point;
   return r;
 }
 
-v1::PointToPixelResponse Pipeline::point_to_pixel(const std::string& name, const Vec3& point,
-                                                  const std::string& frame) const {
+std::optional<Vec2> Pipeline::point_to_pixel(const std::string& name, const Vec3& point,
+                                             const std::string& frame) const {
   const auto state = find_view(name)->state();
   const Rig& r = *state->rig;
   const std::string robot = r.default_frame();
@@ -222,14 +221,9 @@ v1::PointToPixelResponse Pipeline::point_to_pixel(const std::string& name, const
     throw PipelineError(ErrorKind::kInvalidArgument, "frame '" + frame + "' is not connected to '" + robot + "'");
   }
   const Vec3 p_view = state->T_robot_view.inverse() * (*T_robot_frame * point);
-  v1::PointToPixelResponse out;
   Vec2 uv;
-  if (state->view->point_to_pixel(p_view, uv)) {
-    out.set_visible(true);
-    out.set_u(uv.x());
-    out.set_v(uv.y());
-  }
-  return out;
+  if (!state->view->point_to_pixel(p_view, uv)) return std::nullopt;
+  return uv;
 }
 
 }  // namespace omniview
