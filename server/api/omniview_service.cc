@@ -59,6 +59,24 @@ v1::SourceFrame to_source_frame(const FrameSet& frames, uint64_t skipped_before,
   return out;
 }
 
+v1::JointPositions to_proto(const JointsReport& report) {
+  v1::JointPositions out;
+  out.set_source(report.source);
+  out.set_robot(report.robot);
+  for (const JointReport& j : report.joints) {
+    v1::Joint* joint = out.add_joints();
+    joint->set_name(j.name);
+    joint->set_position(j.position);
+    joint->set_unit(j.unit);
+    using Origin = JointReport::Origin;
+    joint->set_origin(j.origin == Origin::kConfig ? v1::Joint::CONFIG
+                      : j.origin == Origin::kApi  ? v1::Joint::API
+                      : j.origin == Origin::kSource ? v1::Joint::SOURCE
+                                                   : v1::Joint::URDF_ZERO);
+  }
+  return out;
+}
+
 }  // namespace
 
 grpc::Status OmniviewService::acquire_stream(const std::string& peer) {
@@ -319,7 +337,7 @@ grpc::Status OmniviewService::SetJointPositions(grpc::ServerContext* ctx, const 
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
     const JointMap positions(req->positions().begin(), req->positions().end());
-    *resp = pipeline_.set_joint_positions(req->source(), positions, req->clear());
+    *resp = to_proto(pipeline_.set_joint_positions(req->source(), positions, req->clear()));
     return grpc::Status::OK;
   });
 }
@@ -329,7 +347,7 @@ grpc::Status OmniviewService::GetJointPositions(grpc::ServerContext* ctx, const 
   OMNIVIEW_AUTHORIZE(ctx);
   OMNIVIEW_CHECK_BOUNDS(req);
   return guarded([&] {
-    *resp = pipeline_.joint_positions(req->source());
+    *resp = to_proto(pipeline_.joint_positions(req->source()));
     return grpc::Status::OK;
   });
 }

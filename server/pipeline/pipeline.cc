@@ -55,13 +55,13 @@ RobotJoints& Pipeline::robot_joints(const std::string& source) const {
   return *it->second;
 }
 
-v1::JointPositions Pipeline::set_joint_positions(const std::string& source, const JointMap& positions, bool clear) {
+JointsReport Pipeline::set_joint_positions(const std::string& source, const JointMap& positions, bool clear) {
   RobotJoints& joints = robot_joints(source);
   joints.set(positions, clear);
   return joints.describe(channel(source).source().name());
 }
 
-v1::JointPositions Pipeline::joint_positions(const std::string& source) const {
+JointsReport Pipeline::joint_positions(const std::string& source) const {
   RobotJoints& joints = robot_joints(source);
   const Source& s = channel(source).source();
   // The source's newest report, not only the last frame's: nobody may be watching.

@@ -137,8 +137,8 @@ class Pipeline {
   // What `source` ("" = default) says of itself now (connected, its last problem).
   SourceHealth source_health(const std::string& source) const;
   // The robot overlay's joints of `source` ("" = default): set through the API, and read.
-  v1::JointPositions set_joint_positions(const std::string& source, const JointMap& positions, bool clear);
-  v1::JointPositions joint_positions(const std::string& source) const;
+  JointsReport set_joint_positions(const std::string& source, const JointMap& positions, bool clear);
+  JointsReport joint_positions(const std::string& source) const;
   bool stopped() const { return stopped_; }
 
  private:

@@ -53,27 +53,27 @@ std::shared_ptr<const JointMap> RobotJoints::effective(const std::shared_ptr<con
   return merged_;
 }
 
-v1::JointPositions RobotJoints::describe(const std::string& source) const {
+JointsReport RobotJoints::describe(const std::string& source) const {
   const robot::RobotModel& model = *setup_->model;
   std::lock_guard lock(mutex_);
-  v1::JointPositions out;
-  out.set_source(source);
-  out.set_robot(model.name());
+  JointsReport out;
+  out.source = source;
+  out.robot = model.name();
   for (const auto& name : model.variable_names()) {
-    auto* j = out.add_joints();
-    j->set_name(name);
-    j->set_unit("rad");
+    JointReport& j = out.joints.emplace_back();
+    j.name = name;
     for (const auto& link : model.links()) {
-      if (link.joint.name == name && link.joint.type == robot::JointType::kPrismatic) j->set_unit("m");
+      if (link.joint.name == name && link.joint.type == robot::JointType::kPrismatic) j.unit = "m";
     }
-    const std::pair<const JointMap*, v1::Joint::Origin> layers[] = {
-        {&setup_->fixed_joints, v1::Joint::CONFIG}, {&api_, v1::Joint::API}, {live_.get(), v1::Joint::SOURCE}};
+    using Origin = JointReport::Origin;
+    const std::pair<const JointMap*, Origin> layers[] = {
+        {&setup_->fixed_joints, Origin::kConfig}, {&api_, Origin::kApi}, {live_.get(), Origin::kSource}};
     for (const auto& [layer, origin] : layers) {
       if (!layer) continue;
       const auto it = layer->find(name);
       if (it == layer->end() || !std::isfinite(it->second)) continue;
-      j->set_position(it->second);
-      j->set_origin(origin);
+      j.position = it->second;
+      j.origin = origin;
     }
   }
   return out;

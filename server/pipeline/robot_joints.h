@@ -8,13 +8,27 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
-#include "omniview/v1/omniview.pb.h"
 #include "server/pipeline/robot_layer.h"
 
 namespace omniview {
 
 using JointMap = std::map<std::string, double>;
+
+// One movable joint of a robot model as GetJointPositions reports it.
+struct JointReport {
+  enum class Origin { kUrdfZero, kConfig, kApi, kSource };  // which layer set the position
+  std::string name;
+  double position = 0;
+  std::string unit = "rad";  // or "m" (prismatic)
+  Origin origin = Origin::kUrdfZero;
+};
+
+struct JointsReport {
+  std::string source, robot;        // the robot: the URDF's name
+  std::vector<JointReport> joints;  // every movable joint, in URDF order
+};
 
 class RobotJoints {
  public:
@@ -32,7 +46,7 @@ class RobotJoints {
   std::shared_ptr<const JointMap> effective(const std::shared_ptr<const JointMap>& live);
 
   // Every joint with its position and where that comes from (GetJointPositions).
-  v1::JointPositions describe(const std::string& source) const;
+  JointsReport describe(const std::string& source) const;
 
  private:
   const std::shared_ptr<const RobotModelSetup> setup_;
