@@ -379,7 +379,17 @@ TEST_F(DepthViews, AViewChangedKeepsStandingOnMeasuredDepth) {
   v1::View updated;
   ASSERT_TRUE(stub_->UpdateView(make_context().get(), r, &updated).ok());
   ASSERT_TRUE(eventually_within([&] { return measured.get().camera().revision() == updated.revision(); }, 10s));
-  EXPECT_GT(measured.get().measured_depth(), 0.2);
+  // Under a sanitizer the source can stall for seconds (GetImage deadlines; an ASan
+  // rehearsal of stop 36): geometry older than 2 s is not used, so the new revision starts
+  // on its fixed surface until clouds come again, as on a robot whose lidar went quiet.
+  if (test_time_scale() == 1) EXPECT_GT(measured.get().measured_depth(), 0.2);
+  EXPECT_TRUE(eventually_within(
+      [&] {
+        const v1::Frame f = measured.get();
+        return f.camera().revision() == updated.revision() && f.measured_depth() > 0.2;
+      },
+      30s))
+      << daemon_->log();
   // And back to fixed: no measured depth, no geometry.
   v1::UpdateViewRequest fixed;
   fixed.set_name("measured");
