@@ -11,6 +11,7 @@
 #include "core/rig/rig.h"
 #include "server/api/request_bounds.h"
 #include "server/api/service_support.h"
+#include "server/api/status_message.h"
 #include "server/convert/convert.h"
 #include "server/pipeline/frame_encoder.h"
 
@@ -293,7 +294,7 @@ grpc::Status OmniviewService::PointToPixel(grpc::ServerContext* ctx, const v1::P
 grpc::Status OmniviewService::GetStatus(grpc::ServerContext* ctx, const v1::GetStatusRequest*, v1::Status* resp) {
   OMNIVIEW_AUTHORIZE(ctx);
   return guarded([&] {
-    *resp = pipeline_.status();
+    *resp = status_message(pipeline_.report(), black_box_ ? black_box_->report() : std::vector<BlackBoxRingReport>{});
     return grpc::Status::OK;
   });
 }

@@ -123,14 +123,12 @@ BlackBox::BlackBox(const BlackBoxConfig& config, Pipeline& pipeline, const std::
   }
   for (auto& r : recorders_) r->writer = std::thread([this, rec = r.get()] { write_loop(*rec); });
   watcher_ = std::thread([this] { watch_loop(); });
-  pipeline_.set_status_extension([this](v1::Status& status) { describe(status); });
 }
 
 BlackBox::~BlackBox() { stop(); }
 
 void BlackBox::stop() {
   if (stopping_.exchange(true)) return;
-  pipeline_.set_status_extension(nullptr);
   {
     std::lock_guard lock(watch_mutex_);
   }
@@ -297,21 +295,23 @@ std::vector<SnapshotSummary> BlackBox::save_locked(const std::string& name, cons
   return saved;
 }
 
-void BlackBox::describe(v1::Status& status) const {
+std::vector<BlackBoxRingReport> BlackBox::report() const {
+  std::vector<BlackBoxRingReport> rings;
   for (const auto& r : recorders_) {
-    auto* out = status.add_blackbox();
-    out->set_source(r->source);
+    BlackBoxRingReport& out = rings.emplace_back();
+    out.source = r->source;
     std::lock_guard lock(r->mutex);
-    out->set_folder(r->ring->folder().string());
-    out->set_span_s(r->ring->span().count());
-    out->set_bytes(r->ring->bytes());
-    out->set_max_bytes(config_.max_bytes / recorders_.size());
-    out->set_minutes(config_.minutes);
-    out->set_frame_sets(r->ring->frame_sets());
-    out->set_not_kept(r->not_kept + (r->tap ? r->tap->skipped() : 0));
-    out->set_message(r->message);
-    out->set_last_snapshot(r->last_snapshot);
+    out.folder = r->ring->folder().string();
+    out.span_s = r->ring->span().count();
+    out.bytes = r->ring->bytes();
+    out.max_bytes = config_.max_bytes / recorders_.size();
+    out.minutes = config_.minutes;
+    out.frame_sets = r->ring->frame_sets();
+    out.not_kept = r->not_kept + (r->tap ? r->tap->skipped() : 0);
+    out.message = r->message;
+    out.last_snapshot = r->last_snapshot;
   }
+  return rings;
 }
 
 }  // namespace omniview

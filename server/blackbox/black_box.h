@@ -24,7 +24,6 @@
 #include <thread>
 #include <vector>
 
-#include "omniview/v1/omniview.pb.h"
 #include "server/blackbox/black_box_ring.h"
 #include "server/blackbox/snapshot_merge.h"
 #include "server/config/daemon_config.h"
@@ -41,6 +40,17 @@ class SnapshotError : public std::runtime_error {
 
  private:
   Kind kind_;
+};
+
+// One source's ring, for GetStatus.
+struct BlackBoxRingReport {
+  std::string source, folder;
+  double span_s = 0;  // newest kept frame set's capture time minus the oldest's
+  uint64_t bytes = 0, max_bytes = 0;  // on disk now; this source's share of the budget
+  double minutes = 0;
+  uint64_t frame_sets = 0, not_kept = 0;
+  std::string message;        // the last problem; empty while writing works
+  std::string last_snapshot;  // empty before any
 };
 
 class BlackBox {
@@ -62,7 +72,7 @@ class BlackBox {
   std::vector<SnapshotSummary> save(const std::string& name, const std::string& source = "");
 
   // Each source's ring, for GetStatus.
-  void describe(v1::Status& status) const;
+  std::vector<BlackBoxRingReport> report() const;
 
   // Whether `folder` can hold a black box (created if missing): for `omniviewd --check`,
   // which must not touch a ring. Throws std::runtime_error naming it.

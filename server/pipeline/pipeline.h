@@ -38,6 +38,7 @@
 #include "server/pipeline/depth/source_geometry.h"
 #include "server/pipeline/encoder_pool.h"
 #include "server/pipeline/live_view.h"
+#include "server/pipeline/pipeline_report.h"
 #include "server/pipeline/robot_joints.h"
 #include "server/pipeline/robot_layer.h"
 #include "server/pipeline/source_channel.h"
@@ -130,10 +131,8 @@ class Pipeline {
   // The rig a source currently delivers (for recordings).
   std::shared_ptr<const Rig> rig(const std::string& source) const;
 
-  v1::Status status() const;
-  // What status() adds from outside the pipeline (the black box's rings); empty to remove.
-  // Setting waits for a status() in flight, so the extension's owner may go after it.
-  void set_status_extension(std::function<void(v1::Status&)> extension);
+  // Sources, views, clients and the cameras being pulled, now (GetStatus).
+  PipelineReport report() const;
   // What `source` ("" = default) says of itself now (connected, its last problem).
   SourceHealth source_health(const std::string& source) const;
   // The robot overlay's joints of `source` ("" = default): set through the API, and read.
@@ -168,7 +167,7 @@ class Pipeline {
   // `state`'s view and map on `geometry` (state's rig, spec and pose set); throws
   // std::invalid_argument when the geometry's frame is not the rig's.
   void apply_measured_depth(ViewState& state, const GeometrySnapshot& geometry) const;
-  void describe_depth(const ViewState& state, size_t subscribers, v1::ViewStatus& status) const;
+  DepthReport describe_depth(const ViewState& state, size_t subscribers) const;
   RobotJoints& robot_joints(const std::string& source) const;  // throws PipelineError
   void rebuild_worker();
   void request_rebuild(const std::string& view);
@@ -185,8 +184,6 @@ class Pipeline {
   std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 
   mutable std::mutex views_mutex_;
-  mutable std::mutex status_extension_mutex_;
-  std::function<void(v1::Status&)> status_extension_;
   std::map<std::string, std::shared_ptr<LiveView>> views_;
 
   std::mutex rebuild_mutex_;

@@ -121,27 +121,26 @@ void Pipeline::apply_measured_depth(ViewState& state, const GeometrySnapshot& ge
   state.depth = std::move(depth);
 }
 
-void Pipeline::describe_depth(const ViewState& state, size_t subscribers, v1::ViewStatus& status) const {
+DepthReport Pipeline::describe_depth(const ViewState& state, size_t subscribers) const {
+  DepthReport report;
   const ViewDepth& depth = *state.depth;
   const bool any = depth.geometry_version != 0;
-  status.set_depth_geometry_age_s(
-      any ? std::chrono::duration<double>(DepthClock::now() - depth.geometry_arrival).count() : -1);
-  status.set_depth_update_ms(depth.update_ms);
-  status.set_measured_depth(depth.measured_fraction);
+  report.geometry_age_s = any ? std::chrono::duration<double>(DepthClock::now() - depth.geometry_arrival).count() : -1;
+  report.update_ms = depth.update_ms;
+  report.measured_fraction = depth.measured_fraction;
   const Source& source = channel(state.spec.source).source();
   const SourceGeometry& g = geometry(source.name());
-  std::string message;
   if (!source.provides_clouds() && !any) {
-    message = "source '" + source.name() + "' (type " + source.type() +
-              ") delivers no lidar clouds: the view stands on its fixed surface";
+    report.message = "source '" + source.name() + "' (type " + source.type() +
+                     ") delivers no lidar clouds: the view stands on its fixed surface";
   } else if (!g.message().empty()) {
-    message = g.message();
+    report.message = g.message();
   } else if (subscribers == 0) {
-    message = "not watched: the surface follows the lidar only while someone watches the view";
+    report.message = "not watched: the surface follows the lidar only while someone watches the view";
   } else if (!any) {
-    message = "waiting for the source's first lidar cloud or depth image";
+    report.message = "waiting for the source's first lidar cloud or depth image";
   }
-  status.set_depth_message(message);
+  return report;
 }
 
 }  // namespace omniview

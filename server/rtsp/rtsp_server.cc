@@ -240,13 +240,12 @@ GstRTSPStatusCode RtspServer::Impl::check_source(GstRTSPContext* ctx) {
   view = view.substr(0, view.find('/'));
   try {
     std::string source = pipeline.get_view(view).spec().source();
-    const v1::Status status = pipeline.status();
-    for (const auto& s : status.sources()) {
-      if (!source.empty() && s.name() != source) continue;
-      if (s.connected() || s.last_frame_age_s() >= 0) return GST_RTSP_STS_OK;
+    for (const auto& s : pipeline.report().sources) {
+      if (!source.empty() && s.name != source) continue;
+      if (s.connected || s.last_frame_age_s >= 0) return GST_RTSP_STS_OK;
       if (refusals.admit(peer_ip(ctx->conn))) {  // rate-limited per host, as the 401s
-        std::cerr << "omniviewd: rtsp: DESCRIBE /" << view << " answered 503: source '" << s.name()
-                  << "' has sent no images yet" << (s.message().empty() ? "" : " (" + s.message() + ")") << std::endl;
+        std::cerr << "omniviewd: rtsp: DESCRIBE /" << view << " answered 503: source '" << s.name
+                  << "' has sent no images yet" << (s.message.empty() ? "" : " (" + s.message + ")") << std::endl;
       }
       return GST_RTSP_STS_SERVICE_UNAVAILABLE;
     }

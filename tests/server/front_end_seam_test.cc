@@ -6,6 +6,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "server/api/status_message.h"
 #include "server/pipeline/subscription.h"
 #include "server/status/failure.h"
 
@@ -99,6 +100,76 @@ TEST(Subscription, LeavesOnceHoweverItEnds) {
   EXPECT_EQ(left, 4);
   // A leave that throws (the pipeline stopping meanwhile) ends nothing else.
   { Subscription<Item> s(std::make_shared<Item>(), [](const Item*) { throw std::runtime_error("stopped"); }); }
+}
+
+// GetStatus's message is the pipeline's report and the black box's rings, field for field;
+// a fixed view leaves the depth fields at zero, as before the report had its own types.
+TEST(StatusMessage, CarriesEveryReportFieldAndLeavesFixedViewsDepthAtZero) {
+  PipelineReport report;
+  report.uptime_s = 12.5;
+  SourceReport source;
+  source.name = "spot";
+  source.type = "spot";
+  source.connected = true;
+  source.rate_hz = 15;
+  source.last_frame_age_s = 0.05;
+  source.frames = 100;
+  source.errors = 2;
+  source.dropped = 3;
+  source.message = "slow";
+  source.active_cameras = {"frontleft", "frontright"};
+  source.failure_rate = 0.2;
+  source.degraded = true;
+  report.sources.push_back(source);
+  ViewReport fixed;
+  fixed.name = "front";
+  fixed.subscribers = 2;
+  fixed.fps = 14.9;
+  fixed.map_pending = true;
+  report.views.push_back(fixed);
+  ViewReport measured;
+  measured.name = "birdseye";
+  measured.depth = DepthReport{1.5, 3.25, 7, 0.8, "waiting"};
+  report.views.push_back(measured);
+  report.clients.push_back({"ipv4:127.0.0.1:5000", "front", 10, 1, "h264 q80"});
+  BlackBoxRingReport ring;
+  ring.source = "spot";
+  ring.bytes = 4096;
+  ring.last_snapshot = "snap";
+
+  const v1::Status status = status_message(report, {ring});
+  EXPECT_EQ(status.version(), OMNIVIEW_VERSION);
+  EXPECT_EQ(status.uptime_s(), 12.5);
+  ASSERT_EQ(status.sources_size(), 1);
+  const auto& s = status.sources(0);
+  EXPECT_EQ(s.name(), "spot");
+  EXPECT_TRUE(s.connected());
+  EXPECT_EQ(s.rate_hz(), 15);
+  EXPECT_EQ(s.last_frame_age_s(), 0.05);
+  EXPECT_EQ(s.frames(), 100u);
+  EXPECT_EQ(s.errors(), 2u);
+  EXPECT_EQ(s.dropped(), 3u);
+  EXPECT_EQ(s.message(), "slow");
+  ASSERT_EQ(s.active_cameras_size(), 2);
+  EXPECT_EQ(s.active_cameras(1), "frontright");
+  EXPECT_EQ(s.failure_rate(), 0.2);
+  EXPECT_TRUE(s.degraded());
+  ASSERT_EQ(status.views_size(), 2);
+  EXPECT_EQ(status.views(0).subscribers(), 2u);
+  EXPECT_TRUE(status.views(0).map_pending());
+  EXPECT_EQ(status.views(0).depth_geometry_age_s(), 0);  // fixed: zero, not -1
+  EXPECT_EQ(status.views(0).depth_message(), "");
+  EXPECT_EQ(status.views(1).depth_geometry_age_s(), 1.5);
+  EXPECT_EQ(status.views(1).depth_update_ms(), 3.25);
+  EXPECT_EQ(status.views(1).depth_updates(), 7u);
+  EXPECT_EQ(status.views(1).measured_depth(), 0.8);
+  EXPECT_EQ(status.views(1).depth_message(), "waiting");
+  ASSERT_EQ(status.clients_size(), 1);
+  EXPECT_EQ(status.clients(0).encoding(), "h264 q80");
+  EXPECT_EQ(status.clients(0).frames_dropped(), 1u);
+  ASSERT_EQ(status.blackbox_size(), 1);
+  EXPECT_EQ(status.blackbox(0).bytes(), 4096u);
+  EXPECT_EQ(status.blackbox(0).last_snapshot(), "snap");
 }
 
 }  // namespace

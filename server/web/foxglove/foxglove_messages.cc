@@ -193,11 +193,10 @@ std::string frame_transforms(Pipeline& pipeline) {
   foxglove::FrameTransforms out;
   const pb::Timestamp stamp = now_timestamp();
   std::set<std::string> done;  // a frame has one parent, whichever source names it first
-  const v1::Status status = pipeline.status();  // alive through the loop
-  for (const auto& source : status.sources()) {
+  for (const auto& source : pipeline.report().sources) {
     std::shared_ptr<const Rig> rig;
     try {
-      rig = pipeline.rig(source.name());
+      rig = pipeline.rig(source.name);
     } catch (const std::exception&) {
       continue;
     }

@@ -77,10 +77,9 @@ void FoxgloveProtocol::advertise() {
       wanted["/" + name + "/calibration"] = {Kind::kCalibration, name, foxglove::CameraCalibration::descriptor()};
     }
   }
-  const v1::Status status = context_.pipeline.status();  // alive through the loop
-  for (const auto& source : status.sources()) {
-    if (context_.pipeline.provides_clouds(source.name())) {
-      wanted["/" + source.name() + "/cloud"] = {Kind::kCloud, source.name(), foxglove::PointCloud::descriptor()};
+  for (const auto& source : context_.pipeline.report().sources) {
+    if (context_.pipeline.provides_clouds(source.name)) {
+      wanted["/" + source.name + "/cloud"] = {Kind::kCloud, source.name, foxglove::PointCloud::descriptor()};
     }
   }
   wanted["/tf"] = {Kind::kTransforms, "", foxglove::FrameTransforms::descriptor()};
