@@ -19,6 +19,7 @@ packages=(
   gstreamer1.0-plugins-good gstreamer1.0-plugins-bad         # ... rtph264pay, h264parse
   libgstreamer-plugins-bad1.0-dev gstreamer1.0-nice  # WebRTC (server/webrtc): webrtcbin and its ICE (libnice)
   python3-aiortc  # tests/webrtc: an independent WebRTC stack (Python's aiortc, decoding with PyAV) as a WHEP viewer
+  coturn          # tests/webrtc: a real TURN (and STUN) server the daemon relays its WebRTC media through
   iptables        # bench/webrtc_loss.sh: random packet loss between two network namespaces
   libboost-dev  # Boost.Beast and Asio (header-only): omniviewd's HTTP + WebSocket endpoint (server/web)
   nlohmann-json3-dev  # the web endpoint's client JSON (server/web/json)

@@ -63,8 +63,8 @@ tsan_pending+="|RtspLimits.RtspsConnectionsStuckInTheirHandshakeAreClosedWhenIdl
 # WebRTC's media run on GStreamer's uninstrumented webrtcbin, DTLS, SRTP and libnice threads
 # (~10 per viewer); ThreadSanitizer reported races inside them in about one run in three,
 # a new library each time (tests/tsan.supp lists those seen; none had a frame of ours on
-# either stack), so these two run in the ASan tree only (where they pass), not here.
-not_instrumented="webrtc_whep|webrtc_console"
+# either stack), so these run in the ASan tree only (where they pass), not here.
+not_instrumented="webrtc_whep|webrtc_console|webrtc_turn"
 # The exposure tests start ~110 daemons to judge listen addresses: a single-threaded check
 # at start-up, nothing for ThreadSanitizer to see: built here (CTest wants every server
 # test program), run in the ASan tree.
