@@ -1,0 +1,153 @@
+// The geometry a depth view stands on (server/pipeline/depth/source_geometry.h): clouds of a
+// moving robot accumulated where the world is, aged out by capture time, kept within the
+// point budget, bad clouds counted and skipped. No daemon.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/synthetic/spot_like_rig.h"
+#include "server/pipeline/depth/source_geometry.h"
+
+namespace omniview {
+namespace {
+
+using namespace std::chrono_literals;
+using Time = std::chrono::system_clock::time_point;
+
+const Time kT0 = Time(std::chrono::seconds(1'700'000'000));
+
+// A wall 3 m ahead of the world's origin (x = 3), 2 m wide and high, every 5 cm.
+std::vector<Eigen::Vector3d> wall_in_world() {
+  std::vector<Eigen::Vector3d> points;
+  for (double y = -1; y <= 1; y += 0.05) {
+    for (double z = 0; z <= 2; z += 0.05) points.emplace_back(3, y, z);
+  }
+  return points;
+}
+
+// What the robot's lidar measures of the wall from `T_world_body`, in the body frame.
+PointCloud scan(const Pose& T_world_body, Time stamp, const std::string& frame) {
+  PointCloud cloud;
+  cloud.frame = frame;
+  cloud.stamp = stamp;
+  const Pose T_body_world = T_world_body.inverse();
+  for (const auto& p : wall_in_world()) cloud.points.push_back((T_body_world * p).cast<float>());
+  return cloud;
+}
+
+// The largest distance of a point from the wall once put back into the world at `T_world_body`.
+double worst_off_the_wall(const std::vector<Eigen::Vector3f>& points, const Pose& T_world_body) {
+  double worst = 0;
+  for (const auto& p : points) worst = std::max(worst, std::abs((T_world_body * p.cast<double>()).x() - 3));
+  return worst;
+}
+
+class Geometry : public ::testing::Test {
+ protected:
+  const Rig rig = synthetic::spot_like_rig();
+  const std::string body = rig.default_frame();
+  const std::chrono::steady_clock::time_point arrival = std::chrono::steady_clock::now();
+};
+
+TEST_F(Geometry, AMovingRobotsCloudsAreAccumulatedWhereTheWorldIs) {
+  // The robot drives 0.5 m towards the wall and turns 10 deg between two rotations.
+  const Pose T_world_body0 = make_pose(Vec3(0, 0, 0.5), 0, 0, 0);
+  const Pose T_world_body1 = make_pose(Vec3(0.5, 0.1, 0.5), 10 * M_PI / 180, 0, 0);
+  Trajectory odometry;
+  odometry.add(kT0, T_world_body0);
+  odometry.add(kT0 + 100ms, T_world_body1);
+
+  SourceGeometry moving;
+  moving.add(scan(T_world_body0, kT0, body), rig, &odometry, arrival);
+  moving.add(scan(T_world_body1, kT0 + 100ms, body), rig, &odometry, arrival);
+  const auto snapshot = moving.latest();
+  ASSERT_TRUE(snapshot);
+  EXPECT_EQ(snapshot->clouds, 2u);
+  EXPECT_EQ(snapshot->points->size(), 2 * wall_in_world().size());
+  EXPECT_EQ(snapshot->frame, body);
+  EXPECT_EQ(snapshot->stamp, kT0 + 100ms);
+  // Every point, the older rotation's too, is on the wall as seen from where the robot is now.
+  EXPECT_LT(worst_off_the_wall(*snapshot->points, T_world_body1), 1e-4);
+
+  // Without odometry the robot is taken to be still: the older rotation's wall stands
+  // half a metre too far (what the accumulation with motion is for).
+  SourceGeometry still;
+  still.add(scan(T_world_body0, kT0, body), rig, nullptr, arrival);
+  still.add(scan(T_world_body1, kT0 + 100ms, body), rig, nullptr, arrival);
+  EXPECT_GT(worst_off_the_wall(*still.latest()->points, T_world_body1), 0.4);
+}
+
+TEST_F(Geometry, CloudsLeaveByCaptureTimeBehindTheNewest) {
+  GeometryOptions options;
+  options.keep = 500ms;
+  SourceGeometry geometry(options);
+  const Pose here = make_pose(Vec3(0, 0, 0.5), 0, 0, 0);
+  for (auto t : {0ms, 300ms, 700ms}) geometry.add(scan(here, kT0 + t, body), rig, nullptr, arrival);
+  EXPECT_EQ(geometry.latest()->clouds, 2u);  // the first is 700 ms behind the newest
+  EXPECT_EQ(geometry.latest()->version, 3u);
+  // A cloud that arrives late (an older stamp) is aged out against the newest one too.
+  geometry.add(scan(here, kT0 + 100ms, body), rig, nullptr, arrival);
+  EXPECT_EQ(geometry.latest()->clouds, 2u);
+  EXPECT_EQ(geometry.latest()->stamp, kT0 + 700ms);
+}
+
+TEST_F(Geometry, ThePointBudgetDropsTheOldestCloudsAndThinsOneTooBig) {
+  GeometryOptions options;
+  options.max_points = 2000;
+  SourceGeometry geometry(options);
+  const Pose here = make_pose(Vec3(0, 0, 0.5), 0, 0, 0);
+  const size_t per_scan = wall_in_world().size();  // ~1,600
+  geometry.add(scan(here, kT0, body), rig, nullptr, arrival);
+  geometry.add(scan(here, kT0 + 100ms, body), rig, nullptr, arrival);
+  EXPECT_EQ(geometry.latest()->clouds, 1u);
+  EXPECT_EQ(geometry.latest()->points->size(), per_scan);
+
+  options.max_points = 500;
+  SourceGeometry small(options);
+  small.add(scan(here, kT0, body), rig, nullptr, arrival);
+  const size_t kept = small.latest()->points->size();
+  EXPECT_LE(kept, 500u);
+  EXPECT_GE(kept, 375u) << "an even subset (every 4th point here), not a corner of the cloud";
+  EXPECT_LT(worst_off_the_wall(*small.latest()->points, here), 1e-4);
+}
+
+TEST_F(Geometry, BadCloudsAreCountedSkippedAndSaidWhy) {
+  SourceGeometry geometry;
+  const Pose here = make_pose(Vec3(0, 0, 0.5), 0, 0, 0);
+  geometry.add(scan(here, kT0, "nowhere"), rig, nullptr, arrival);
+  EXPECT_FALSE(geometry.latest());
+  EXPECT_EQ(geometry.skipped(), 1u);
+  EXPECT_NE(geometry.message().find("'nowhere'"), std::string::npos) << geometry.message();
+
+  PointCloud no_returns = scan(here, kT0, body);
+  for (auto& p : no_returns.points) p.x() = std::numeric_limits<float>::quiet_NaN();
+  geometry.add(no_returns, rig, nullptr, arrival);
+  EXPECT_EQ(geometry.skipped(), 2u);
+  EXPECT_NE(geometry.message().find("no finite point"), std::string::npos) << geometry.message();
+
+  // Some non-finite points in a good cloud: those alone are left out, and the message clears.
+  PointCloud some = scan(here, kT0, body);
+  some.points[0].y() = std::numeric_limits<float>::infinity();
+  geometry.add(some, rig, nullptr, arrival);
+  ASSERT_TRUE(geometry.latest());
+  EXPECT_EQ(geometry.latest()->points->size(), wall_in_world().size() - 1);
+  EXPECT_EQ(geometry.message(), "");
+}
+
+TEST_F(Geometry, ADepthCamerasPointsAreInItsOpticalFrame) {
+  // Points 2 m along the frontleft camera's optical axis land where that camera looks.
+  PointCloud depth;
+  depth.frame = rig.cameras()[0].name;
+  depth.stamp = kT0;
+  depth.points.emplace_back(0, 0, 2);
+  SourceGeometry geometry;
+  geometry.add(depth, rig, nullptr, arrival);
+  ASSERT_TRUE(geometry.latest());
+  const Pose T_body_camera = rig.camera_pose(body, 0);
+  const Eigen::Vector3d expected = T_body_camera * Eigen::Vector3d(0, 0, 2);
+  EXPECT_LT((geometry.latest()->points->at(0).cast<double>() - expected).norm(), 1e-5);
+}
+
+}  // namespace
+}  // namespace omniview
