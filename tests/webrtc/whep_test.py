@@ -56,6 +56,21 @@ async def make_offer():
     return pc, pc.localDescription.sdp
 
 
+def collect_frames(pc, wanted):
+    """The frames of `pc`'s incoming track as they come, and an event set once `wanted` came."""
+    frames, enough = [], asyncio.Event()
+
+    @pc.on("track")
+    def on_track(track):
+        async def read():
+            while len(frames) < wanted:
+                frames.append(await track.recv())
+            enough.set()
+        asyncio.ensure_future(read())
+
+    return frames, enough
+
+
 class Whep:
     """HTTP to the daemon's web port (one keep-alive connection)."""
 
@@ -130,17 +145,7 @@ class WhepTest(unittest.TestCase):
     def test_an_independent_webrtc_stack_receives_and_decodes_the_view(self):
         async def go():
             pc, offer = await make_offer()
-            frames = []
-            enough = asyncio.Event()
-
-            @pc.on("track")
-            def on_track(track):
-                async def read():
-                    while len(frames) < 20:
-                        frames.append(await track.recv())
-                    enough.set()
-                asyncio.ensure_future(read())
-
+            frames, enough = collect_frames(pc, 20)
             status, answer, headers = self.http.request("POST", "/whep/front", offer)
             self.assertEqual(status, 201, answer)
             self.assertEqual(headers["Content-Type"], "application/sdp")

@@ -27,7 +27,7 @@ from aiortc import RTCPeerConnection, RTCSessionDescription
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "web"))
 import harness  # noqa: E402
 from harness import seconds  # noqa: E402
-from whep_test import Whep, make_offer  # noqa: E402
+from whep_test import Whep, collect_frames, make_offer  # noqa: E402
 
 ARGS = None
 TURN_USER, TURN_PASSWORD = "robot", "s3cret-relay"
@@ -122,17 +122,7 @@ class RelayOnlyFirewall:
 async def watch(http, answer_filter=lambda a: a, frames_wanted=15):
     """Views `front` over WHEP; the decoded frames and the answer as the daemon sent it."""
     pc, offer = await make_offer()
-    frames = []
-    enough = asyncio.Event()
-
-    @pc.on("track")
-    def on_track(track):
-        async def read():
-            while len(frames) < frames_wanted:
-                frames.append(await track.recv())
-            enough.set()
-        asyncio.ensure_future(read())
-
+    frames, enough = collect_frames(pc, frames_wanted)
     status, answer, headers = http.request("POST", "/whep/front", offer)
     assert status == 201, f"{status}: {answer}"
     try:
