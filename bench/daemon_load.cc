@@ -10,12 +10,6 @@
 // OMNIVIEW_BENCH_DAEMON runs another omniviewd binary (a baseline build, say).
 #include <benchmark/benchmark.h>
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
@@ -28,9 +22,8 @@
 
 #include "core/rig/rig.h"
 #include "omniview/v1/omniview.grpc.pb.h"
+#include "bench/spawned_process.h"
 #include "server/recording/recording.h"
-
-extern char** environ;
 
 namespace omniview {
 namespace {
@@ -59,7 +52,7 @@ void make_recording(const fs::path& folder) {
 }
 
 struct Daemon {
-  pid_t pid = -1;
+  std::unique_ptr<bench::SpawnedProcess> process;
   std::string address;
 
   explicit Daemon(const fs::path& dir) {
@@ -71,44 +64,15 @@ struct Daemon {
                           << "  - {name: front, type: perspective, width: 1024, height: 512, hfov_deg: 120}\n"
                           << "  - {name: birdseye, type: birdseye, width: 800, height: 800, height_m: 4}\n"
                           << "  - {name: panorama, type: equirectangular, width: 2048, height: 1024}\n";
-    const fs::path ready = dir / "ready";
     const char* binary = std::getenv("OMNIVIEW_BENCH_DAEMON");
-    std::vector<std::string> args = {binary && *binary ? binary : OMNIVIEWD, "--config", config.string(), "--ready-file", ready.string()};
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 2, (dir / "omniviewd.log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) throw std::runtime_error("spawn");
-    posix_spawn_file_actions_destroy(&actions);
-    for (int i = 0; i < 2000 && !fs::exists(ready); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    std::ifstream(ready) >> address;
-    if (address.empty()) throw std::runtime_error("omniviewd did not start; see " + (dir / "omniviewd.log").string());
+    process = std::make_unique<bench::SpawnedProcess>(
+        std::vector<std::string>{binary && *binary ? binary : OMNIVIEWD, "--config", config.string(), "--ready-file",
+                                 (dir / "ready").string()},
+        dir / "omniviewd.log", dir / "ready", std::chrono::seconds(20));
+    address = process->ready();
   }
-  ~Daemon() {
-    kill(pid, SIGTERM);
-    waitpid(pid, nullptr, 0);
-  }
-  // utime + stime in seconds, from /proc.
-  double cpu_seconds() const {
-    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-    std::string s((std::istreambuf_iterator<char>(in)), {});
-    std::istringstream fields(s.substr(s.rfind(')') + 2));
-    std::string f;
-    double ticks = 0;
-    for (int i = 3; i <= 15 && fields >> f; ++i) {
-      if (i == 14 || i == 15) ticks += std::stod(f);
-    }
-    return ticks / sysconf(_SC_CLK_TCK);
-  }
+  double cpu_seconds() const { return process->cpu_seconds(); }
 };
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * v.size()))];
-}
 
 // A client of its own connection streaming `view` until `seconds` after `start`.
 struct Client {
@@ -182,10 +146,10 @@ void run_load(benchmark::State& state, const std::vector<Client>& clients) {
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const double cpu = daemon.cpu_seconds() - cpu0;
     state.SetIterationTime(wall);
-    state.counters["latency_p50_ms"] = percentile(samples.end_to_end_ms, 0.5);
-    state.counters["latency_p99_ms"] = percentile(samples.end_to_end_ms, 0.99);
-    state.counters["daemon_p50_ms"] = percentile(samples.daemon_ms, 0.5);
-    state.counters["daemon_p99_ms"] = percentile(samples.daemon_ms, 0.99);
+    state.counters["latency_p50_ms"] = bench::percentile(samples.end_to_end_ms, 0.5);
+    state.counters["latency_p99_ms"] = bench::percentile(samples.end_to_end_ms, 0.99);
+    state.counters["daemon_p50_ms"] = bench::percentile(samples.daemon_ms, 0.5);
+    state.counters["daemon_p99_ms"] = bench::percentile(samples.daemon_ms, 0.99);
     state.counters["daemon_cpu_pct_of_core"] = 100 * cpu / wall;
     state.counters["fps_per_client"] = samples.frames / wall / measured;
     if (measured < static_cast<int>(clients.size())) {
