@@ -76,20 +76,22 @@ Shares measure(const std::shared_ptr<Rig>& rig, const synthetic::Scene& scene, c
 }
 
 // The bounds are today's figures with a little room (a change that makes either worse
-// fails): Spot 99.8 % / 5.7 %, the fisheyes 100 % / 0.5 %. The goal (<= 2 % of the
-// hidden points coloured) holds for the fisheyes, not yet for Spot's cameras, where a
-// rough check put about a quarter of the hidden points that take a colour within the
-// occlusion tolerance (0.1 x range + 0.1 m) of the surface; why the rest are not covered
-// in the camera's depth buffer is still to be found.
+// fails): Spot 99.8 % / 4.6 %, the fisheyes 100 % / 0.5 %. The goal (<= 2 % of the
+// hidden points coloured) holds for the fisheyes, not yet for Spot's cameras. Of those that
+// take a colour there, every one lies beyond the occlusion tolerance of the surface the
+// camera truly sees in front of it (ray-cast), half of them below the floor within ~1.5 m
+// of the robot, where the floor is densely sampled: why the camera's depth buffer does not
+// cover them is still to be found (the rule, core/cloud/camera_pass.cc occluding_depth,
+// wants nearer samples on both sides of the cell).
 TEST(HiddenPoints, SpotsFiveCamerasInTheRoom) {
   const Pose T_world_body = make_pose(Vec3(0.5, 0.3, 0.5), 0.2, 0, 0);
   const auto rig = test::rig_in_world(T_world_body);
   const Vec3 lidar = (T_world_body * test::T_body_lidar()).translation();
-  const Shares s = measure(rig, synthetic::Scene::room(), lidar, -60, 60, "Spot, room");
+  const Shares s = measure(rig, synthetic::Scene::room(), lidar, -89, 89, "Spot, room");
   ASSERT_GT(s.visible, 10000u);
   ASSERT_GT(s.hidden, 10000u);
   EXPECT_GE(s.visible_share(), 0.995);
-  EXPECT_LE(s.hidden_share(), 0.065);
+  EXPECT_LE(s.hidden_share(), 0.05);
 }
 
 TEST(HiddenPoints, TwoFisheyesInASphere) {
