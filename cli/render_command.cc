@@ -256,7 +256,7 @@ FusionMap measured_depth_map(const NamedView& view, const Rig& rig, const Render
   if (stats.non_finite) os << ", " << stats.non_finite << " NaN/inf skipped";
   os << ")";
   note = os.str();
-  return build_map(rig, *depth_view, MapPrecision::kExact, Sampling::kFootprint, &occlusion);
+  return build_map(rig, *depth_view, MapPrecision::kAdaptive, Sampling::kFootprint, &occlusion);
 }
 
 std::vector<PreparedView> prepare_views(const std::vector<NamedView>& views, const LoadedRig& loaded,

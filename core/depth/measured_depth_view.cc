@@ -48,6 +48,25 @@ double MeasuredDepthView::measured_fraction() const {
   return measured_.empty() ? 0 : double(on) / double(measured_.size());
 }
 
+bool MeasuredDepthView::smooth_over(int x0, int y0, int x1, int y1, float tolerance_rel) const {
+  const float r00 = range_at(x0, y0), r01 = range_at(x1, y0), r10 = range_at(x0, y1), r11 = range_at(x1, y1);
+  const bool any = r00 > 0.f || r01 > 0.f || r10 > 0.f || r11 > 0.f;
+  const bool all = r00 > 0.f && r01 > 0.f && r10 > 0.f && r11 > 0.f;
+  if (any != all) return false;
+  const float inv_w = x1 > x0 ? 1.f / float(x1 - x0) : 0.f, inv_h = y1 > y0 ? 1.f / float(y1 - y0) : 0.f;
+  for (int y = y0; y <= y1; ++y) {
+    const float ty = float(y - y0) * inv_h;
+    const float left = r00 + (r10 - r00) * ty, right = r01 + (r11 - r01) * ty;
+    const float* row = &range_[size_t(y) * width()];
+    for (int x = x0; x <= x1; ++x) {
+      const float expected = left + (right - left) * float(x - x0) * inv_w;
+      // Without a surface anywhere, expected is 0 and so must every range be.
+      if (!(std::abs(row[x] - expected) <= tolerance_rel * expected)) return false;
+    }
+  }
+  return true;
+}
+
 double MeasuredDepthView::surface_range(const Vec3& unit_dir) const {
   // The range of the pixel this direction falls in (pixel_to_point asks per pixel anyway).
   Vec2 uv;

@@ -6,7 +6,7 @@
 //
 //   DepthSurface surface(spec);                                 // once per view change
 //   auto view = surface.update(points, T_view_points, &stats);  // per geometry update
-//   build_map(rig, *view, MapPrecision::kExact, Sampling::kFootprint, &occlusion);
+//   build_map(rig, *view, MapPrecision::kAdaptive, Sampling::kFootprint, &occlusion);
 #pragma once
 
 #include <memory>
@@ -43,6 +43,10 @@ class MeasuredDepthView : public View {
   static constexpr int kJudgedMargin = 3;
   // Fraction of the view's pixels that stand on measured depth (blend band included).
   double measured_fraction() const;
+  // Every pixel's range within tolerance_rel of the bilinear blend of the four corners'
+  // ranges, or all of them without a surface point.
+  bool smooth_over(int x0, int y0, int x1, int y1, float tolerance_rel) const override;
+  bool measured() const override { return true; }
 
  protected:
   double surface_range(const Vec3& unit_dir) const override;

@@ -97,8 +97,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
   map.height = view.height();
   map.fusion = spec.fusion;
   const size_t n = static_cast<size_t>(map.width) * static_cast<size_t>(map.height);
-  // Measured depth has steps the adaptive builder's smoothness test was not made for.
-  const bool exact = blend || occlusion || spec.depth == Depth::kMeasured || precision == MapPrecision::kExact || map.width < 2 || map.height < 2;
+  const bool exact = blend || precision == MapPrecision::kExact || map.width < 2 || map.height < 2;
   if (cameras.empty()) {
     // A rig whose cameras are not known yet (a robot that has not answered): all black.
     map.primary.assign(n, kBlackEntry);
@@ -152,7 +151,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
     cv::parallel_for_(cv::Range(0, tasks), [&](const cv::Range& range) {
       std::vector<uint8_t> local(cameras.size(), 0);
       const int end = std::min(bands, range.end * kBandsPerTask);
-      build_bands_adaptive(view, setups, map, range.start * kBandsPerTask, end, local);
+      build_bands_adaptive(view, setups, map, range.start * kBandsPerTask, end, local, occlusion);
       for (size_t c = 0; c < local.size(); ++c) {
         if (local[c]) used[c].store(true, std::memory_order_relaxed);
       }

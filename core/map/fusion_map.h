@@ -93,8 +93,9 @@ enum class Sampling { kFootprint, kBilinear };
 // view's frame is not connected to the cameras or the rig has more than 254 cameras.
 // `occlusion` (optional, one entry per rig camera): a camera whose covering depth hides a
 // pixel's surface point does not compete for it, so a point every camera sees hidden is
-// black. Maps with occlusion are built exactly (the adaptive builder's interpolation
-// assumes a smooth surface, which measured depth is not).
+// black. The adaptive builder interpolates on measured depth and with occlusion only where
+// the surface is smooth between its samples and no occluder's edge crosses the block
+// (adaptive/bands.cc, may_interpolate).
 FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision = MapPrecision::kAdaptive,
                     Sampling sampling = Sampling::kFootprint, const Occlusion* occlusion = nullptr);
 

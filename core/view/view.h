@@ -46,6 +46,18 @@ class View {
   // bit for bit what row_points gives there. The adaptive builder samples sparse lattices
   // and isolated exact pixels with it, and never pays for the rest of the row.
   void points_at(int v, const int* columns, int n, float* x, float* y, float* z, uint8_t* valid) const;
+  // Whether the surface over pixels [x0, x1] x [y0, y1] (inclusive) is smooth enough for the
+  // adaptive map builder to interpolate across it from samples: every pixel's range within
+  // `tolerance_rel` of the bilinear blend of the corners' (the builder sets it from how far
+  // a camera sees the point move). Analytic surfaces always are (the builder's own midpoint
+  // test catches strong curvature); measured depth has steps between the samples (a thin
+  // post) that the samples alone would miss.
+  virtual bool smooth_over(int x0, int y0, int x1, int y1, float tolerance_rel) const {
+    (void)tolerance_rel;
+    return x0 <= x1 && y0 <= y1;
+  }
+  // Whether smooth_over can ever say no (the builder then keeps the samples' points).
+  virtual bool measured() const { return false; }
 
  protected:
   explicit View(const ViewSpec& spec);

@@ -110,8 +110,7 @@ void Pipeline::apply_measured_depth(ViewState& state, const GeometrySnapshot& ge
   const ViewOcclusionOptions options;
   const auto cameras = this->geometry(state.spec.source).range_images(state.rig, options.cell_deg);
   const Occlusion occlusion = view_occlusion(*cameras, *view, *geometry.points, T_view_points, options);
-  // Exact: the adaptive builder interpolates across a smooth surface, which measured depth is not.
-  state.map = std::make_shared<const FusionMap>(build_map(rig, *view, MapPrecision::kExact, Sampling::kFootprint, &occlusion));
+  state.map = std::make_shared<const FusionMap>(build_map(rig, *view, MapPrecision::kAdaptive, Sampling::kFootprint, &occlusion));
   state.view = view;
   state.coverage = state.map->coverage();
   depth->geometry_version = geometry.version;

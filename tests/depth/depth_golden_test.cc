@@ -60,7 +60,7 @@ Variants run(const ViewSpec& fixed_spec) {
   r.lidar_measured = lidar_view->measured_fraction();
   const CameraRangeImages range_images(*rig, ViewOcclusionOptions{}.cell_deg);
   const Occlusion lidar_occlusion = view_occlusion(range_images, *lidar_view, scan.points, T_view_lidar);
-  r.lidar = test::score(build_map(*rig, *lidar_view, MapPrecision::kExact, Sampling::kBilinear, &lidar_occlusion),
+  r.lidar = test::score(build_map(*rig, *lidar_view, MapPrecision::kAdaptive, Sampling::kBilinear, &lidar_occlusion),
                         images, truth);
   r.lidar_no_occlusion = test::score(build_map(*rig, *lidar_view, MapPrecision::kExact, Sampling::kBilinear), images,
                                      truth);
@@ -83,7 +83,7 @@ Variants run(const ViewSpec& fixed_spec) {
   }
   const auto exact_view = surface.update(truth.points, Pose::Identity());
   const Occlusion exact_occlusion = view_occlusion(range_images, *exact_view, dense, Pose::Identity());
-  r.exact = test::score(build_map(*rig, *exact_view, MapPrecision::kExact, Sampling::kBilinear, &exact_occlusion),
+  r.exact = test::score(build_map(*rig, *exact_view, MapPrecision::kAdaptive, Sampling::kBilinear, &exact_occlusion),
                         images, truth);
   r.exact_no_occlusion = test::score(build_map(*rig, *exact_view, MapPrecision::kExact, Sampling::kBilinear), images,
                                      truth);

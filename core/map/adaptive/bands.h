@@ -34,8 +34,9 @@ namespace omniview::map_internal {
 // grid lines 0, 8, ..., H - 1; the last band also owns row H - 1). Consecutive bands share
 // their lattice rows, so a worker should take a run of them. Sets used[c] for every camera
 // c the rows read.
+// `occlusion` (optional): as build_map's; see BandBuilder::may_interpolate for what it adds.
 void build_bands_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band_begin,
-                          int band_end, std::vector<uint8_t>& used);
+                          int band_end, std::vector<uint8_t>& used, const Occlusion* occlusion = nullptr);
 
 // Number of bands of a map of `height` rows (>= 2).
 inline int adaptive_band_count(int height) { return (height - 2) / kBlock + 1; }

@@ -133,6 +133,8 @@ BlockLattice quarter(const FineLattice& f, int qy, int qx) {
       const int fp = 2 * qy + p, fk = 2 * qx + k;
       b.u[p][k] = f.u[fp][fk], b.v[p][k] = f.v[fp][fk], b.cam[p][k] = f.cam[fp][fk];
       b.on_surface[p][k] = f.on_surface[fp][fk];
+      b.px[p][k] = f.px[fp][fk], b.py[p][k] = f.py[fp][fk], b.pz[p][k] = f.pz[fp][fk];
+      b.better_hidden[p][k] = f.better_hidden[fp][fk];
     }
   }
   return b;

@@ -21,6 +21,9 @@ struct Lattice {
   float u[N][N], v[N][N];
   uint32_t cam[N][N];
   bool on_surface[N][N];
+  // With occlusion only (Winners): the surface points and whether a better camera was hidden.
+  float px[N][N], py[N][N], pz[N][N];
+  uint8_t better_hidden[N][N];
 };
 using BlockLattice = Lattice<3>;  // corners, edge midpoints, centre
 using FineLattice = Lattice<5>;   // a full 8x8 block every 2 pixels

@@ -30,15 +30,24 @@ constexpr int kVector = 8, kMinBatch = 32;
 
 // One camera's candidates: projection (the model inlined, no call per pixel), the mask,
 // and the comparison with the best so far. Compiled for baseline x86-64 and x86-64-v3.
+// With occlusion, `best_unoccluded` keeps the best score before hidden points are dropped.
 OMNIVIEW_MULTIVERSION
 void compete(const CameraSetup& c, uint32_t cam, int n, RowScratch& s, float* best, float* out_u, float* out_v,
-             uint32_t* out_cam) {
+             uint32_t* out_cam, const CameraOccluder* occluder, const Occlusion* rule, const uint8_t* judged,
+             float* best_unoccluded) {
   project_camera_row(c, n, s.x.data(), s.y.data(), s.z.data(), s.valid.data(), s.u.data(), s.v.data(),
                      s.score.data());
   if (!c.camera->mask.empty()) {
     for (int i = 0; i < n; ++i) {
       if (s.score[i] != kInvalid && !mask_allows(*c.camera, s.u[i], s.v[i])) s.score[i] = kInvalid;
     }
+  }
+  if (best_unoccluded) {
+    for (int i = 0; i < n; ++i) best_unoccluded[i] = std::min(best_unoccluded[i], s.score[i]);
+  }
+  if (occluder && !occluder->empty()) {
+    drop_hidden(c, *occluder, *rule, n, judged, s.x.data(), s.y.data(), s.z.data(), s.u.data(), s.v.data(),
+                s.score.data());
   }
   keep_better(cam, n, s.u.data(), s.v.data(), s.score.data(), best, out_u, out_v, out_cam);
 }
@@ -61,9 +70,33 @@ void WinnerSampler::sample(int row, const int* columns, int n, Winners& out) {
   std::fill_n(out.v.begin(), padded, 0.0f);
   std::fill_n(out.cam.begin(), padded, kNoCamera);
   std::copy_n(s.valid.begin(), padded, out.on_surface.begin());
+  const uint8_t* judged = nullptr;
+  if (keep_points_) {
+    if (out.x.size() < static_cast<size_t>(padded)) {
+      out.x.resize(padded), out.y.resize(padded), out.z.resize(padded);
+      out.judged.resize(padded), out.better_hidden.resize(padded);
+    }
+    std::copy_n(s.x.begin(), padded, out.x.begin());
+    std::copy_n(s.y.begin(), padded, out.y.begin());
+    std::copy_n(s.z.begin(), padded, out.z.begin());
+    std::fill_n(out.better_hidden.begin(), padded, 0);
+  }
+  if (occlusion_) {
+    const size_t row_start = static_cast<size_t>(row) * static_cast<size_t>(view_.width());
+    for (int i = 0; i < padded; ++i) {
+      out.judged[i] = occlusion_->judged.empty() || occlusion_->judged[row_start + columns_[i]];
+    }
+    judged = out.judged.data();
+    best_unoccluded_.resize(best_.size());
+    std::fill_n(best_unoccluded_.begin(), padded, kInvalid);
+  }
   for (size_t ci = 0; ci < setups_.size(); ++ci) {
     compete(setups_[ci], static_cast<uint32_t>(ci), padded, s, best_.data(), out.u.data(), out.v.data(),
-            out.cam.data());
+            out.cam.data(), occlusion_ ? &occlusion_->cameras[ci] : nullptr, occlusion_, judged,
+            occlusion_ ? best_unoccluded_.data() : nullptr);
+  }
+  if (occlusion_) {
+    for (int i = 0; i < padded; ++i) out.better_hidden[i] = best_unoccluded_[i] < best_[i];
   }
 }
 

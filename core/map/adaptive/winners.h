@@ -16,11 +16,19 @@ struct Winners {
   std::vector<float> u, v;
   std::vector<uint32_t> cam;        // kNoCamera where no camera sees the pixel
   std::vector<uint8_t> on_surface;  // the view's surface exists there (not a fisheye corner)
+  // On measured depth or with occlusion only: the surface point (view frame), whether it
+  // is judged (Occlusion::judged), and whether a camera that would have won was dropped as
+  // hidden there (the adaptive builder must not interpolate across such a sample: between
+  // two samples that camera may see the surface again).
+  std::vector<float> x, y, z;
+  std::vector<uint8_t> judged, better_hidden;
 };
 
 class WinnerSampler {
  public:
-  WinnerSampler(const View& view, const std::vector<CameraSetup>& setups) : view_(view), setups_(setups) {}
+  // `occlusion` (optional): cameras that see a pixel's surface point hidden do not compete.
+  WinnerSampler(const View& view, const std::vector<CameraSetup>& setups, const Occlusion* occlusion = nullptr)
+      : view_(view), setups_(setups), occlusion_(occlusion), keep_points_(occlusion || view.measured()) {}
 
   // Winners at pixels (columns[i], row), i < n, into out[i] (out grows to hold them).
   void sample(int row, const int* columns, int n, Winners& out);
@@ -28,8 +36,10 @@ class WinnerSampler {
  private:
   const View& view_;
   const std::vector<CameraSetup>& setups_;
+  const Occlusion* occlusion_;
+  const bool keep_points_;
   RowScratch scratch_{0};
-  std::vector<float> best_;
+  std::vector<float> best_, best_unoccluded_;
   std::vector<int> columns_;  // padded
 };
 
