@@ -124,12 +124,19 @@ Occlusion view_occlusion(const CameraRangeImages& cameras, const MeasuredDepthVi
   const Eigen::Matrix3f R = T_view_points.linear().cast<float>();
   const Eigen::Vector3f t = T_view_points.translation().cast<float>();
   for (const auto& p : points) all.push_back(R * p + t);  // NaN stays NaN and drops out
+  // The surface points as the map builder sees them (points_at), a row at a time: per pixel
+  // through pixel_to_point (a virtual call, the ray and its range looked up again) cost a
+  // tenth of the update.
   const int step = std::max(1, surface_step);
+  std::vector<int> columns;
+  for (int u = 0; u < view.width(); u += step) columns.push_back(u);
+  const int n = static_cast<int>(columns.size());
+  std::vector<float> x(n), y(n), z(n);
+  std::vector<uint8_t> valid(n);
   for (int v = 0; v < view.height(); v += step) {
-    for (int u = 0; u < view.width(); u += step) {
-      if (view.measured_at(u, v) != 255) continue;
-      Vec3 p;
-      if (view.pixel_to_point(u, v, p)) all.push_back(p.cast<float>());
+    view.points_at(v, columns.data(), n, x.data(), y.data(), z.data(), valid.data());
+    for (int k = 0; k < n; ++k) {
+      if (valid[k] && view.measured_at(columns[k], v) == 255) all.emplace_back(x[k], y[k], z[k]);
     }
   }
   Occlusion occlusion =
