@@ -1,6 +1,7 @@
 #include "core/depth/measured_depth_view.h"
 
 #include <cmath>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
 
@@ -11,9 +12,11 @@
 namespace omniview {
 
 MeasuredDepthView::MeasuredDepthView(std::shared_ptr<const ViewRays> rays, std::vector<float> range,
-                                     std::vector<uint8_t> measured)
-    : View(rays->view->spec()), rays_(std::move(rays)), range_(std::move(range)), measured_(std::move(measured)) {
-  if (range_.size() != rays_->size() || measured_.size() != rays_->size()) {
+                                     std::vector<uint8_t> measured, std::vector<uint8_t> sampled)
+    : View(rays->view->spec()), rays_(std::move(rays)), range_(std::move(range)), measured_(std::move(measured)),
+      sampled_(std::move(sampled)) {
+  if (sampled_.empty()) sampled_.assign(rays_->size(), 0);
+  if (range_.size() != rays_->size() || measured_.size() != rays_->size() || sampled_.size() != rays_->size()) {
     throw std::invalid_argument("view '" + spec_.name + "': measured depth of the wrong size");
   }
 }
@@ -39,6 +42,38 @@ std::vector<uint8_t> MeasuredDepthView::occlusion_judged() const {
   const int r = kJudgedMargin;
   cv::Mat mask(height(), width(), CV_8UC1, judged.data());
   cv::erode(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * r + 1, 2 * r + 1)));
+  // Beside a nearer surface, where the depth is mostly filled in rather than measured,
+  // pixels are not judged either: between a lidar's samples the edge of an object is only
+  // known to a sample's spacing (its rings are 2 deg apart), so the gap fill may end the
+  // object's surface short of its true edge and the wall behind take over, or a sample of
+  // the wall the lidar saw past the edge land where the view sees the object; the cameras,
+  // seeing the object there, called that wall hidden: black dots along the sides of every
+  // box (the golden front view on one rotation: 30.1 dB; 43.7 dB with this rule, the same
+  // as without occlusion; the bird's-eye 27.5 -> 29.9 dB). Where the window around a pixel
+  // is at least kDenseShare sampled (per-pixel depth, the goldens' exact depth), its
+  // occlusion is judged as ever (their figures are unchanged).
+  const int m = std::max(1, static_cast<int>(std::lround(kEdgeMarginDeg * M_PI / 180 / rays_->pixel_rad)));
+  cv::Mat range(height(), width(), CV_32FC1);
+  for (int v = 0; v < height(); ++v) {
+    float* row = range.ptr<float>(v);
+    for (int u = 0; u < width(); ++u) {
+      const float r = range_at(u, v);
+      row[u] = r > 0.f ? r : std::numeric_limits<float>::max();
+    }
+  }
+  cv::Mat nearest, density;
+  const cv::Size window(2 * m + 1, 2 * m + 1);
+  cv::erode(range, nearest, cv::getStructuringElement(cv::MORPH_RECT, window));
+  cv::boxFilter(cv::Mat(height(), width(), CV_8UC1, const_cast<uint8_t*>(sampled_.data())), density, CV_32F, window);
+  for (int v = 0; v < height(); ++v) {
+    const float* near = nearest.ptr<float>(v);
+    const float* own = range.ptr<float>(v);
+    const float* dense = density.ptr<float>(v);
+    const size_t row = size_t(v) * width();
+    for (int u = 0; u < width(); ++u) {
+      if (dense[u] < kDenseShare && near[u] < own[u] * (1.f - kEdgeStep)) judged[row + u] = 0;
+    }
+  }
   return judged;
 }
 
@@ -116,7 +151,10 @@ std::shared_ptr<const MeasuredDepthView> DepthSurface::update(const std::vector<
   BlendedSurface surface = blend_with_fixed(*rays_, filled, options_);
   s.measured_pixels += surface.measured_pixels;
   s.blended_pixels += surface.blended_pixels;
-  return std::make_shared<MeasuredDepthView>(rays_, std::move(surface.range), std::move(surface.measured));
+  std::vector<uint8_t> sampled(splatted.size());
+  for (size_t i = 0; i < sampled.size(); ++i) sampled[i] = splatted[i] > 0.f && filled[i] == splatted[i];
+  return std::make_shared<MeasuredDepthView>(rays_, std::move(surface.range), std::move(surface.measured),
+                                             std::move(sampled));
 }
 
 }  // namespace omniview

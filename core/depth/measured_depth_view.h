@@ -24,8 +24,10 @@ namespace omniview {
 class MeasuredDepthView : public View {
  public:
   // `range`: per pixel along its ray (0: no surface point); `measured`: share of measured
-  // depth per pixel, 0..255.
-  MeasuredDepthView(std::shared_ptr<const ViewRays> rays, std::vector<float> range, std::vector<uint8_t> measured);
+  // depth per pixel, 0..255; `sampled`: 1 where a point itself gave the range, not the gap
+  // fill (empty: nowhere).
+  MeasuredDepthView(std::shared_ptr<const ViewRays> rays, std::vector<float> range, std::vector<uint8_t> measured,
+                    std::vector<uint8_t> sampled = {});
 
   bool pixel_to_direction(double u, double v, Vec3& dir) const override;
   bool point_to_pixel(const Vec3& point, Vec2& uv) const override;
@@ -38,9 +40,14 @@ class MeasuredDepthView : public View {
   // over). Not the blend band, nor a fixed plane, cylinder or sphere: a point of those a
   // camera sees behind a measured object is most often that object going on past its last
   // measured ring, and black there would hide what the camera plainly sees.
-  // Pixels within kJudgedMargin of one that is not judged are not judged either.
+  // Pixels within kJudgedMargin of one that is not judged are not judged either, nor those
+  // within kEdgeMarginDeg of a surface nearer by more than kEdgeStep where less than
+  // kDenseShare of the pixels around them were sampled (a lidar's edges are uncertain).
   std::vector<uint8_t> occlusion_judged() const;
   static constexpr int kJudgedMargin = 3;
+  static constexpr double kEdgeMarginDeg = 2.0;  // a VLP-16's ring spacing
+  static constexpr float kEdgeStep = 0.1f;  // as DepthOptions::max_step_rel: what the gap fill calls a step
+  static constexpr float kDenseShare = 0.5f;
   // Fraction of the view's pixels that stand on measured depth (blend band included).
   double measured_fraction() const;
   // Every pixel's range within tolerance_rel of the bilinear blend of the four corners'
@@ -58,6 +65,7 @@ class MeasuredDepthView : public View {
   std::shared_ptr<const ViewRays> rays_;
   std::vector<float> range_;
   std::vector<uint8_t> measured_;
+  std::vector<uint8_t> sampled_;
 };
 
 // Makes MeasuredDepthViews of one view spec from successive sets of points: the rays and

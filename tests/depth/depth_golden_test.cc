@@ -101,10 +101,10 @@ TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
   v.hfov_deg = 100;
   const Variants r = run(v);
   report("bird's-eye", r);
-  // Measured (release, this commit; issue targets in brackets):
+  // Measured (release, stop 38; issue targets in brackets):
   //   (a) fixed ground              30.8 dB, unseen painted 76.7 %
-  //   (b) one VLP-16 rotation       27.1 dB, 57.2 %  (31.6 dB, 74.1 % without occlusion)
-  //   (c) exact depth of the scene  42.7 dB,  4.8 %  (35.5 dB, 54.3 % without occlusion)
+  //   (b) one VLP-16 rotation       29.9 dB, 58.8 %  (31.6 dB, 74.1 % without occlusion)
+  //   (c) exact depth of the scene  42.7 dB,  4.3 %  (35.5 dB, 54.3 % without occlusion)
   // With the exact depth the targets hold (>= fixed + 6 dB: +11.8; <= 5 % painted). With
   // one rotation they do not (>= fixed + 6 dB, within 2 dB of (c), <= 5 %): its rings
   // leave the pillars' and boxes' lower and upper parts unmeasured, the floor behind them
@@ -113,12 +113,14 @@ TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
   // floor (without occlusion it beats the ground by 0.7 dB, but paints what no camera
   // sees). These bounds guard what works, below the figures by compiler-noise margins.
   // (Rings joined in two passes and occlusion judged 3 px inside the measured surface, stop
-  // 32: (b) 27.1 -> 27.5 dB.)
+  // 32: (b) 27.1 -> 27.5 dB. Not judged within 2 deg of a nearer surface where the depth is
+  // mostly filled in, stop 38: (b) 27.5 -> 29.9 dB, unseen painted 57.2 -> 58.8 %; (c)
+  // unchanged. Maps adaptive since stop 38: (c) 42.7 dB, 4.3 %.)
   EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 10);
   EXPECT_GT(r.exact.psnr_db, r.exact_no_occlusion.psnr_db + 5);  // occlusion helps where the geometry is whole
   EXPECT_LE(r.exact.unseen_painted, 0.06);
   EXPECT_LT(r.lidar.unseen_painted, r.fixed.unseen_painted - 0.15);
-  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 4.5);
+  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 1.5);
   EXPECT_GT(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db);
 }
 
@@ -143,14 +145,16 @@ TEST(DepthGolden, FrontViewOnMeasuredDepth) {
   //                                 gap fill and occlusion to the surface's edge: 28.8, 42.3)
   //   (c) exact depth of the scene  48.2 dB, unseen painted 37 % (48.2 dB, 100 % without)
   // On this smooth texture the fixed plane with the floor is already close. Exact depth
-  // gains 7.3 dB (target >= 6: met); one rotation gains 2.8 dB without occlusion and loses
-  // 11 dB with it (target not met): the cameras judge some pixels along objects' side
-  // edges hidden (dots of black), and black there costs much PSNR.
+  // gains 7.3 dB (target >= 6: met); one rotation gains 2.8 dB, with occlusion as without
+  // it since stop 38 (43.7 dB; target +6 not met). Before, with occlusion it lost 11 dB
+  // (30.1 dB): the cameras judged pixels along objects' side edges hidden (dots of black)
+  // where the lidar leaves the edge uncertain (MeasuredDepthView::occlusion_judged).
   EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 6);
   EXPECT_GE(r.exact.psnr_db, r.exact_no_occlusion.psnr_db - 0.5);  // no visible pixel blackened
   EXPECT_LE(r.exact.unseen_painted, 0.45);
   EXPECT_GE(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db + 2.3);
-  EXPECT_GT(r.lidar.psnr_db, 29);
+  EXPECT_GE(r.lidar.psnr_db, r.fixed.psnr_db + 2.3);
+  EXPECT_GE(r.lidar.psnr_db, r.lidar_no_occlusion.psnr_db - 0.5);  // occlusion blackens no visible edge
 }
 
 }  // namespace
