@@ -1,5 +1,5 @@
 // Depth-aware views against the truth (issue 32): the Spot-like rig in a furnished room,
-// its cameras ray-cast, a bird's-eye and a fused front view built three ways: (a) on the
+// its cameras ray-cast, a bird's-eye, a fused front view and a panorama built three ways: (a) on the
 // view's fixed surface, (b) on measured depth from one VLP-16 rotation, (c) on the exact
 // depth of the scene (a point per view pixel); the truth is what a camera at the view's
 // own pose sees. PSNR over the pixels some camera sees; in the bird's-eye view also the
@@ -155,6 +155,35 @@ TEST(DepthGolden, FrontViewOnMeasuredDepth) {
   EXPECT_GE(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db + 2.3);
   EXPECT_GE(r.lidar.psnr_db, r.fixed.psnr_db + 2.3);
   EXPECT_GE(r.lidar.psnr_db, r.lidar_no_occlusion.psnr_db - 0.5);  // occlusion blackens no visible edge
+}
+
+TEST(DepthGolden, PanoramaOnMeasuredDepth) {
+  // A 360 deg panorama at the body's centre, its sphere 3 m out and the floor cut in.
+  ViewSpec v;
+  v.name = "panorama";
+  v.type = ViewType::kEquirectangular;
+  v.width = 720;
+  v.height = 240;
+  v.fov_deg = 360;
+  v.lat_min_deg = -60;
+  v.lat_max_deg = 30;
+  v.radius = 3;
+  v.ground = true;
+  v.ground_z = -0.5;
+  const Variants r = run(v);
+  report("panorama", r);
+  // Measured (release, stop 38):
+  //   (a) fixed sphere, floor cut in  25.1 dB, unseen painted 4.6 %
+  //   (b) one VLP-16 rotation         32.3 dB, 3.8 %  (32.1 dB, 3.9 % without occlusion)
+  //   (c) exact depth of the scene    46.8 dB, 0.5 %  (40.9 dB, 3.8 % without occlusion)
+  // All around the robot the objects stand well off the 3 m sphere, so measured depth
+  // pays most here: one rotation meets the issue's +6 dB (+7.2); within 2 dB of (c) it
+  // does not (the rings leave the objects' tops and bottoms unmeasured).
+  EXPECT_GE(r.lidar.psnr_db, r.fixed.psnr_db + 6);
+  EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 15);
+  EXPECT_GT(r.exact.psnr_db, r.exact_no_occlusion.psnr_db + 4.5);
+  EXPECT_LE(r.lidar.unseen_painted, r.fixed.unseen_painted);
+  EXPECT_LE(r.exact.unseen_painted, 0.01);
 }
 
 }  // namespace
