@@ -98,6 +98,13 @@ void BM_DepthOcclusionOnly(benchmark::State& state, int rotations) {
   for (auto _ : state) benchmark::DoNotOptimize(view_occlusion(range_images(), *view, points, T_view_body));
 }
 
+void BM_DepthJudgedOnly(benchmark::State& state, int rotations) {
+  const ViewSpec spec = front_view(Depth::kMeasured);
+  const auto& points = lidar_points(rotations);
+  const auto view = DepthSurface(spec).update(points, spec.T_frame_view().inverse());
+  for (auto _ : state) benchmark::DoNotOptimize(view->occlusion_judged());
+}
+
 void BM_DepthMapOnly(benchmark::State& state, int rotations, MapPrecision precision) {
   const ViewSpec spec = front_view(Depth::kMeasured);
   const auto& points = lidar_points(rotations);
@@ -123,6 +130,7 @@ BENCHMARK_CAPTURE(BM_DepthSurfaceOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMi
 BENCHMARK_CAPTURE(BM_DepthSurfaceOnly, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthOcclusionOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthOcclusionOnly, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthJudgedOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthMapOnly, vlp16_1_rotation, 1, MapPrecision::kAdaptive)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthMapOnly, vlp16_1_rotation_exact, 1, MapPrecision::kExact)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_FixedMapBuild, adaptive, MapPrecision::kAdaptive)

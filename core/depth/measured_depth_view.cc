@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/depth/fallback_blend.h"
@@ -31,9 +32,12 @@ bool MeasuredDepthView::point_to_pixel(const Vec3& point, Vec2& uv) const {
 
 std::vector<uint8_t> MeasuredDepthView::occlusion_judged() const {
   std::vector<uint8_t> judged(measured_.size());
-  for (size_t i = 0; i < judged.size(); ++i) {
-    judged[i] = measured_[i] == 255 || (measured_[i] == 0 && rays_->fixed_on_ground[i]);
-  }
+  const uint8_t* on_ground = rays_->fixed_on_ground.data();
+  cv::parallel_for_(cv::Range(0, height()), [&](const cv::Range& rows) {
+    for (size_t i = size_t(rows.start) * width(), end = size_t(rows.end) * width(); i < end; ++i) {
+      judged[i] = measured_[i] == 255 || (measured_[i] == 0 && on_ground[i]);
+    }
+  });
   // Not within kJudgedMargin pixels of what is not judged: the last ring on an object or a
   // wall ends the measured surface a little short of the object's true edge, where the
   // cameras' range images (filled by the same rule) disagree with it by a cell, and a row of
@@ -52,28 +56,50 @@ std::vector<uint8_t> MeasuredDepthView::occlusion_judged() const {
   // as without occlusion; the bird's-eye 27.5 -> 29.9 dB). Where the window around a pixel
   // is at least kDenseShare sampled (per-pixel depth, the goldens' exact depth), its
   // occlusion is judged as ever (their figures are unchanged).
+  // On cells of c x c pixels (the nearest range and the sampled count of each): the
+  // window's nearest range and sampled share then cost a few cells per pixel, not the
+  // (2m + 1)^2 window (m is 20 px in a 1024-wide 100 deg view: 3.6 ms per update at full
+  // resolution). The margin comes out between m and m + c pixels.
   const int m = std::max(1, static_cast<int>(std::lround(kEdgeMarginDeg * M_PI / 180 / rays_->pixel_rad)));
-  cv::Mat range(height(), width(), CV_32FC1);
-  for (int v = 0; v < height(); ++v) {
-    float* row = range.ptr<float>(v);
-    for (int u = 0; u < width(); ++u) {
-      const float r = range_at(u, v);
-      row[u] = r > 0.f ? r : std::numeric_limits<float>::max();
+  const int c = std::max(1, m / 4), w = width(), h = height();
+  const int cw = (w + c - 1) / c, ch = (h + c - 1) / c;
+  cv::Mat cell_near(ch, cw, CV_32FC1, cv::Scalar(std::numeric_limits<float>::max()));
+  cv::Mat cell_sampled(ch, cw, CV_32FC1, cv::Scalar(0));
+  std::vector<int> cell_of(w);  // column -> cell column (a division per pixel cost more than the rest)
+  for (int u = 0; u < w; ++u) cell_of[u] = u / c;
+  cv::parallel_for_(cv::Range(0, ch), [&](const cv::Range& cell_rows) {
+    for (int v = cell_rows.start * c; v < std::min(h, cell_rows.end * c); ++v) {
+      float* near = cell_near.ptr<float>(v / c);
+      float* count = cell_sampled.ptr<float>(v / c);
+      const float* range = &range_[size_t(v) * w];
+      const uint8_t* sampled = &sampled_[size_t(v) * w];
+      for (int u = 0; u < w; ++u) {
+        const int cu = cell_of[u];
+        if (range[u] > 0.f) near[cu] = std::min(near[cu], range[u]);
+        count[cu] += sampled[u];
+      }
     }
-  }
-  cv::Mat nearest, density;
-  const cv::Size window(2 * m + 1, 2 * m + 1);
-  cv::erode(range, nearest, cv::getStructuringElement(cv::MORPH_RECT, window));
-  cv::boxFilter(cv::Mat(height(), width(), CV_8UC1, const_cast<uint8_t*>(sampled_.data())), density, CV_32F, window);
-  for (int v = 0; v < height(); ++v) {
-    const float* near = nearest.ptr<float>(v);
-    const float* own = range.ptr<float>(v);
-    const float* dense = density.ptr<float>(v);
-    const size_t row = size_t(v) * width();
-    for (int u = 0; u < width(); ++u) {
-      if (dense[u] < kDenseShare && near[u] < own[u] * (1.f - kEdgeStep)) judged[row + u] = 0;
+  });
+  const int k = (m + c - 1) / c;  // cells either side
+  const cv::Size window(2 * k + 1, 2 * k + 1);
+  cv::Mat nearest, sampled_sum;
+  cv::erode(cell_near, nearest, cv::getStructuringElement(cv::MORPH_RECT, window), cv::Point(-1, -1), 1,
+            cv::BORDER_CONSTANT, cv::Scalar(std::numeric_limits<float>::max()));
+  cv::boxFilter(cell_sampled, sampled_sum, CV_32F, window, cv::Point(-1, -1), /*normalize=*/false, cv::BORDER_CONSTANT);
+  const float dense_count = kDenseShare * float(window.area() * c * c);
+  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+    for (int v = rows.start; v < rows.end; ++v) {
+      const float* near = nearest.ptr<float>(v / c);
+      const float* sampled = sampled_sum.ptr<float>(v / c);
+      const float* range = &range_[size_t(v) * w];
+      uint8_t* out = &judged[size_t(v) * w];
+      for (int u = 0; u < w; ++u) {
+        const float own = range[u] > 0.f ? range[u] : std::numeric_limits<float>::max();
+        const int cu = cell_of[u];
+        if (sampled[cu] < dense_count && near[cu] < own * (1.f - kEdgeStep)) out[u] = 0;
+      }
     }
-  }
+  });
   return judged;
 }
 
