@@ -36,9 +36,32 @@ void report(const std::string& what, const Variants& r) {
   std::cout << "[ depth  ] " << what << ": " << 100 * r.lidar_measured << " % of pixels on measured depth (b)\n";
 }
 
-Variants run(const ViewSpec& fixed_spec) {
+// A ring of four cameras 90 deg apart, 0.3 m out from the body's centre, pitched 20 deg
+// down, each 104 deg wide: the other rig the issue asks the goldens for (a car's or a
+// custom robot's surround rig), with the lidar and world frames of rig_in_world.
+std::shared_ptr<Rig> ring_of_four() {
+  auto rig = std::make_shared<Rig>("body");
+  const double d = M_PI / 180;
+  const char* names[] = {"front", "left", "back", "right"};
+  for (int k = 0; k < 4; ++k) {
+    Camera c;
+    c.name = names[k];
+    c.model = CameraModel(PinholeRadtan(250, 250, 319.5, 239.5));
+    c.width = 640;
+    c.height = 480;
+    const double yaw = 90.0 * k * d;
+    c.T_parent_cam = make_pose(Vec3(0.3 * std::cos(yaw), 0.3 * std::sin(yaw), 0.1), yaw, 20 * d, 0);
+    c.T_parent_cam.linear() = c.T_parent_cam.linear() * R_view_optical();
+    rig->add_camera(c);
+  }
+  rig->add_frame("lidar", "body", test::T_body_lidar());
+  rig->add_frame("world", "body", test::T_world_body().inverse());
+  return rig;
+}
+
+Variants run(const ViewSpec& fixed_spec, std::shared_ptr<Rig> rig = nullptr) {
   const synthetic::Scene scene = test::furnished_room();
-  const auto rig = test::rig_in_world(test::T_world_body());
+  if (!rig) rig = test::rig_in_world(test::T_world_body());
   const std::vector<cv::Mat> images = test::render_images(scene, *rig, /*grey=*/true);
   const test::ViewTruth truth = test::view_truth(scene, *rig, fixed_spec);
   Variants r;
@@ -184,6 +207,46 @@ TEST(DepthGolden, PanoramaOnMeasuredDepth) {
   EXPECT_GT(r.exact.psnr_db, r.exact_no_occlusion.psnr_db + 4.5);
   EXPECT_LE(r.lidar.unseen_painted, r.fixed.unseen_painted);
   EXPECT_LE(r.exact.unseen_painted, 0.01);
+}
+
+TEST(DepthGolden, RingOfFourCameras) {
+  ViewSpec birdseye;
+  birdseye.name = "ring_birdseye";
+  birdseye.type = ViewType::kBirdseye;
+  birdseye.width = birdseye.height = 400;
+  birdseye.pitch_deg = 90;
+  birdseye.height_m = 4;
+  birdseye.ground_z = -0.5;
+  birdseye.hfov_deg = 100;
+  const Variants b = run(birdseye, ring_of_four());
+  report("ring, bird's-eye", b);
+  ViewSpec panorama;
+  panorama.name = "ring_panorama";
+  panorama.type = ViewType::kEquirectangular;
+  panorama.width = 720;
+  panorama.height = 240;
+  panorama.fov_deg = 360;
+  panorama.lat_min_deg = -60;
+  panorama.lat_max_deg = 30;
+  panorama.radius = 3;
+  panorama.ground = true;
+  panorama.ground_z = -0.5;
+  const Variants p = run(panorama, ring_of_four());
+  report("ring, panorama", p);
+  // Measured (release, stop 38):
+  //   bird's-eye: (a) fixed ground 29.5 dB, unseen painted 94.9 %; (b) one rotation 31.8 dB,
+  //   49.9 % (30.8 dB, 92.3 % without occlusion); (c) exact depth 40.5 dB, 6.4 %.
+  //   panorama: (a) fixed sphere 23.5 dB; (b) 27.7 dB; (c) 48.5 dB (46.3 without occlusion).
+  // The ring stands its cameras 0.3 m out, so parallax against the fixed surfaces is worse
+  // than Spot's and measured depth gains more in the bird's-eye view; exact depth meets the
+  // issue's +6 dB in both, one rotation does not (+2.3, +4.2 dB: the rings leave the
+  // objects' tops, bottoms and the floor behind them unmeasured).
+  EXPECT_GE(b.exact.psnr_db, b.fixed.psnr_db + 9);
+  EXPECT_GE(b.lidar.psnr_db, b.fixed.psnr_db + 1.5);
+  EXPECT_LE(b.lidar.unseen_painted, b.fixed.unseen_painted - 0.3);
+  EXPECT_LE(b.exact.unseen_painted, 0.08);
+  EXPECT_GE(p.exact.psnr_db, p.fixed.psnr_db + 20);
+  EXPECT_GE(p.lidar.psnr_db, p.fixed.psnr_db + 3.5);
 }
 
 }  // namespace
