@@ -9,6 +9,7 @@
 
 #include "core/cloud/colourer_internal.h"
 #include "core/depth/gap_fill.h"
+#include "core/map/parallel_rows.h"
 
 namespace omniview {
 
@@ -61,7 +62,7 @@ Occlusion CameraRangeImages::occluders(const std::vector<Eigen::Vector3f>& point
   const size_t n = points.size();
   std::vector<float> x(n), y(n), z(n);
   for (size_t i = 0; i < n; ++i) x[i] = points[i].x(), y[i] = points[i].y(), z[i] = points[i].z();
-  cv::parallel_for_(cv::Range(0, static_cast<int>(cameras.size())), [&](const cv::Range& range) {
+  parallel_rows(cv::Range(0, static_cast<int>(cameras.size())), [&](const cv::Range& range) {
     for (int c = range.start; c < range.end; ++c) {
       const Camera& cam = cameras[c];
       const Grid& g = grids_[c];

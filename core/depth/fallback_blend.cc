@@ -6,6 +6,8 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include "core/map/parallel_rows.h"
+
 namespace omniview {
 
 BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& measured, const DepthOptions& options) {
@@ -34,7 +36,7 @@ BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& 
       inv[i] = inv[from];
     }
   };
-  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {
       const size_t row = size_t(v) * w;
       for (int u = 0; u < w; ++u) {
@@ -51,7 +53,7 @@ BlendedSurface blend_with_fixed(const ViewRays& rays, const std::vector<float>& 
     }
   });
   constexpr int kColumns = 64;
-  cv::parallel_for_(cv::Range(0, (w + kColumns - 1) / kColumns), [&](const cv::Range& bands) {
+  parallel_rows(cv::Range(0, (w + kColumns - 1) / kColumns), [&](const cv::Range& bands) {
     const int u0 = bands.start * kColumns, u1 = std::min(w, bands.end * kColumns);
     for (int v = 1; v < h; ++v) {
       for (int u = u0; u < u1; ++u) take(size_t(v) * w + u, size_t(v - 1) * w + u);

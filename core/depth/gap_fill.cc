@@ -8,6 +8,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include "core/map/occlusion.h"
+#include "core/map/parallel_rows.h"
 
 namespace omniview {
 namespace {
@@ -48,7 +49,7 @@ std::vector<float> fill_once(const ViewRays& rays, const std::vector<float>& ran
   std::vector<uint16_t>& up = scratch[2];
   std::vector<uint16_t>& down = scratch[3];
   left.resize(n), right.resize(n), up.resize(n), down.resize(n);
-  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {
       const size_t row = size_t(v) * w;
       nearest_before(&range[row], 1, w, reach, &left[row], 1);
@@ -58,7 +59,7 @@ std::vector<float> fill_once(const ViewRays& rays, const std::vector<float>& ran
   // Up and down: rows in order over bands of columns, so memory is read as it lies (a
   // column-by-column walk missed the cache on every pixel: 15 % of an update).
   constexpr int kBand = 64;
-  cv::parallel_for_(cv::Range(0, (w + kBand - 1) / kBand), [&](const cv::Range& bands) {
+  parallel_rows(cv::Range(0, (w + kBand - 1) / kBand), [&](const cv::Range& bands) {
     const int u0 = bands.start * kBand, u1 = std::min(w, bands.end * kBand);
     std::vector<int> mark(u1 - u0);
     std::fill(mark.begin(), mark.end(), -reach - 1);  // row of the last sample above
@@ -103,7 +104,7 @@ std::vector<float> fill_once(const ViewRays& rays, const std::vector<float>& ran
   std::vector<float> out(range);
   size_t filled = 0, replaced = 0;
   std::mutex counts;
-  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
     size_t my_filled = 0, my_replaced = 0;
     for (int v = rows.start; v < rows.end; ++v) {
       for (int u = 0; u < w; ++u) {

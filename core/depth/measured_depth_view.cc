@@ -9,6 +9,7 @@
 #include "core/depth/fallback_blend.h"
 #include "core/depth/gap_fill.h"
 #include "core/depth/range_splat.h"
+#include "core/map/parallel_rows.h"
 
 namespace omniview {
 
@@ -33,7 +34,7 @@ bool MeasuredDepthView::point_to_pixel(const Vec3& point, Vec2& uv) const {
 std::vector<uint8_t> MeasuredDepthView::occlusion_judged() const {
   std::vector<uint8_t> judged(measured_.size());
   const uint8_t* on_ground = rays_->fixed_on_ground.data();
-  cv::parallel_for_(cv::Range(0, height()), [&](const cv::Range& rows) {
+  parallel_rows(cv::Range(0, height()), [&](const cv::Range& rows) {
     for (size_t i = size_t(rows.start) * width(), end = size_t(rows.end) * width(); i < end; ++i) {
       judged[i] = measured_[i] == 255 || (measured_[i] == 0 && on_ground[i]);
     }
@@ -67,7 +68,7 @@ std::vector<uint8_t> MeasuredDepthView::occlusion_judged() const {
   cv::Mat cell_sampled(ch, cw, CV_32FC1, cv::Scalar(0));
   std::vector<int> cell_of(w);  // column -> cell column (a division per pixel cost more than the rest)
   for (int u = 0; u < w; ++u) cell_of[u] = u / c;
-  cv::parallel_for_(cv::Range(0, ch), [&](const cv::Range& cell_rows) {
+  parallel_rows(cv::Range(0, ch), [&](const cv::Range& cell_rows) {
     for (int v = cell_rows.start * c; v < std::min(h, cell_rows.end * c); ++v) {
       float* near = cell_near.ptr<float>(v / c);
       float* count = cell_sampled.ptr<float>(v / c);
@@ -87,7 +88,7 @@ std::vector<uint8_t> MeasuredDepthView::occlusion_judged() const {
             cv::BORDER_CONSTANT, cv::Scalar(std::numeric_limits<float>::max()));
   cv::boxFilter(cell_sampled, sampled_sum, CV_32F, window, cv::Point(-1, -1), /*normalize=*/false, cv::BORDER_CONSTANT);
   const float dense_count = kDenseShare * float(window.area() * c * c);
-  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
     for (int v = rows.start; v < rows.end; ++v) {
       const float* near = nearest.ptr<float>(v / c);
       const float* sampled = sampled_sum.ptr<float>(v / c);

@@ -5,6 +5,8 @@
 
 #include <opencv2/core/utility.hpp>
 
+#include "core/map/parallel_rows.h"
+
 namespace omniview {
 
 std::shared_ptr<const ViewRays> make_view_rays(std::shared_ptr<const View> view) {
@@ -24,7 +26,7 @@ std::shared_ptr<const ViewRays> make_view_rays(std::shared_ptr<const View> view)
   const Vec3 down = T.linear().transpose() * Vec3(0, 0, -1);  // the frame's -z in the view frame
   const double height = T.translation().z() - spec.ground_z;
   const bool has_ground = spec.ground || spec.type == ViewType::kBirdseye;
-  cv::parallel_for_(cv::Range(0, h), [&](const cv::Range& rows) {
+  parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
     std::vector<float> px(w), py(w), pz(w);
     std::vector<uint8_t> on_surface(w);
     for (int v = rows.start; v < rows.end; ++v) {

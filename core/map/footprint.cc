@@ -5,6 +5,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/map/parallel_rows.h"
+
 namespace omniview {
 namespace {
 
@@ -88,7 +90,7 @@ void assign_footprint_levels(FusionMap& map) {
   const auto entry = [&](int x, int y) -> const MapEntry& { return map.primary[static_cast<size_t>(y) * map.width + x]; };
   // Pass 1, read only: the footprint per block, from its corner and the grid points to its
   // right and below (same camera at all three, else the block stays at level 0: a seam).
-  cv::parallel_for_(cv::Range(0, bh), [&](const cv::Range& rows) {
+  parallel_rows(cv::Range(0, bh), [&](const cv::Range& rows) {
     for (int by = rows.start; by < rows.end; ++by) {
       const int ya = std::min(by * kStep, map.height - 2), yb = std::min(ya + kStep, map.height - 1);
       for (int bx = 0; bx < bw; ++bx) {
@@ -123,7 +125,7 @@ void assign_footprint_levels(FusionMap& map) {
       map.camera_levels[cam] = std::max(map.camera_levels[cam], level);
     }
   }
-  cv::parallel_for_(cv::Range(0, bh), [&](const cv::Range& rows) {
+  parallel_rows(cv::Range(0, bh), [&](const cv::Range& rows) {
     for (int by = rows.start; by < rows.end; ++by) {
       for (int bx = 0; bx < bw; ++bx) {
         const size_t b = static_cast<size_t>(by) * bw + bx;

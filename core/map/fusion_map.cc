@@ -13,6 +13,7 @@
 #include "core/map/adaptive/bands.h"
 #include "core/map/footprint.h"
 #include "core/map/map_kernels.h"
+#include "core/map/parallel_rows.h"
 #include "core/map/usable_region.h"
 
 namespace omniview {
@@ -137,7 +138,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
     }
   };
   if (exact) {
-    cv::parallel_for_(cv::Range(0, map.height), [&](const cv::Range& rows) {
+    parallel_rows(cv::Range(0, map.height), [&](const cv::Range& rows) {
       build_rows_exact(view, setups, blend, map, rows.start, rows.end, occlusion);
       mark_used(rows.start, rows.end);
     });
@@ -148,7 +149,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
     constexpr int kBandsPerTask = 4;
     const int bands = adaptive_band_count(map.height);
     const int tasks = (bands + kBandsPerTask - 1) / kBandsPerTask;
-    cv::parallel_for_(cv::Range(0, tasks), [&](const cv::Range& range) {
+    parallel_rows(cv::Range(0, tasks), [&](const cv::Range& range) {
       std::vector<uint8_t> local(cameras.size(), 0);
       const int end = std::min(bands, range.end * kBandsPerTask);
       build_bands_adaptive(view, setups, map, range.start * kBandsPerTask, end, local, occlusion);

@@ -5,6 +5,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "core/map/parallel_rows.h"
+
 namespace omniview {
 
 cv::Mat usable_region(const Camera& cam) {
@@ -14,7 +16,7 @@ cv::Mat usable_region(const Camera& cam) {
   const int gw = (cam.width + kStep - 1) / kStep, gh = (cam.height + kStep - 1) / kStep;
   cv::Mat grid(gh, gw, CV_8UC1);
   const double cos_half_fov = cam.fov_deg > 0 ? std::cos(cam.fov_deg * M_PI / 360) : -2.0;
-  cv::parallel_for_(cv::Range(0, gh), [&](const cv::Range& rows) {
+  parallel_rows(cv::Range(0, gh), [&](const cv::Range& rows) {
     for (int gy = rows.start; gy < rows.end; ++gy) {
       for (int gx = 0; gx < gw; ++gx) {
         Eigen::Vector3d ray;

@@ -1,8 +1,11 @@
 // Depth updates of views (`depth: measured`), off the frame path: one thread; at most one
 // pending update per view (a request for a view already waiting is that request: it takes
 // the newest geometry when it runs); and a duty cycle: after each update the thread rests
-// `rest_factor` times as long, so depth updates take at most 1 / (1 + rest_factor) of one
-// core whatever the lidar's rate and the number of depth views, and frames keep the rest.
+// `rest_factor` times what it cost (the process's CPU time over the update, or its wall time
+// if longer: the update runs on every core), so depth updates take about 1 / (1 +
+// rest_factor) of one core whatever the lidar's rate and the number of depth views, and
+// frames keep the rest. Its parallel loops run serially on its own thread
+// (core/map/parallel_rows.h), so frames never wait for OpenCV's pool.
 // A view whose update is slow follows its geometry less often; its frames keep flowing
 // with the previous map meanwhile.
 #pragma once
