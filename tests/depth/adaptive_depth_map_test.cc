@@ -99,47 +99,11 @@ void expect_agreement(const ViewSpec& fixed_spec) {
   }
 }
 
-TEST(AdaptiveDepthMap, FrontViewAgreesWithExact) {
-  ViewSpec v;
-  v.name = "front";
-  v.type = ViewType::kPerspective;
-  v.width = 512;
-  v.height = 256;
-  v.position = Vec3(0.42, 0, 0.02);
-  v.pitch_deg = 27;
-  v.hfov_deg = 100;
-  v.distance = 3;
-  v.ground = true;
-  v.ground_z = -0.5;
-  expect_agreement(v);
-}
+TEST(AdaptiveDepthMap, FrontViewAgreesWithExact) { expect_agreement(test::front_spec()); }
 
-TEST(AdaptiveDepthMap, BirdseyeAgreesWithExact) {
-  ViewSpec v;
-  v.name = "birdseye";
-  v.type = ViewType::kBirdseye;
-  v.width = v.height = 400;
-  v.pitch_deg = 90;
-  v.height_m = 4;
-  v.ground_z = -0.5;
-  v.hfov_deg = 100;
-  expect_agreement(v);
-}
+TEST(AdaptiveDepthMap, BirdseyeAgreesWithExact) { expect_agreement(test::birdseye_spec()); }
 
-TEST(AdaptiveDepthMap, PanoramaAgreesWithExact) {
-  ViewSpec v;
-  v.name = "panorama";
-  v.type = ViewType::kEquirectangular;
-  v.width = 720;
-  v.height = 240;
-  v.fov_deg = 360;
-  v.lat_min_deg = -60;
-  v.lat_max_deg = 30;
-  v.radius = 3;
-  v.ground = true;
-  v.ground_z = -0.5;
-  expect_agreement(v);
-}
+TEST(AdaptiveDepthMap, PanoramaAgreesWithExact) { expect_agreement(test::panorama_spec()); }
 
 }  // namespace
 }  // namespace omniview

@@ -114,14 +114,7 @@ Variants run(const ViewSpec& fixed_spec, std::shared_ptr<Rig> rig = nullptr) {
 }
 
 TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
-  ViewSpec v;
-  v.name = "birdseye";
-  v.type = ViewType::kBirdseye;
-  v.width = v.height = 400;
-  v.pitch_deg = 90;
-  v.height_m = 4;
-  v.ground_z = -0.5;  // the floor, in the body frame
-  v.hfov_deg = 100;
+  const ViewSpec v = test::birdseye_spec();
   const Variants r = run(v);
   report("bird's-eye", r);
   // Measured (release, stop 38; issue targets in brackets):
@@ -148,18 +141,7 @@ TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
 }
 
 TEST(DepthGolden, FrontViewOnMeasuredDepth) {
-  // As config/spot.yaml's front view: at the front cameras, pitched down, the floor cut in.
-  ViewSpec v;
-  v.name = "front";
-  v.type = ViewType::kPerspective;
-  v.width = 512;
-  v.height = 256;
-  v.position = Vec3(0.42, 0, 0.02);
-  v.pitch_deg = 27;
-  v.hfov_deg = 100;
-  v.distance = 3;
-  v.ground = true;
-  v.ground_z = -0.5;
+  const ViewSpec v = test::front_spec();
   const Variants r = run(v);
   report("front", r);
   // Measured (release, this commit):
@@ -182,17 +164,7 @@ TEST(DepthGolden, FrontViewOnMeasuredDepth) {
 
 TEST(DepthGolden, PanoramaOnMeasuredDepth) {
   // A 360 deg panorama at the body's centre, its sphere 3 m out and the floor cut in.
-  ViewSpec v;
-  v.name = "panorama";
-  v.type = ViewType::kEquirectangular;
-  v.width = 720;
-  v.height = 240;
-  v.fov_deg = 360;
-  v.lat_min_deg = -60;
-  v.lat_max_deg = 30;
-  v.radius = 3;
-  v.ground = true;
-  v.ground_z = -0.5;
+  const ViewSpec v = test::panorama_spec();
   const Variants r = run(v);
   report("panorama", r);
   // Measured (release, stop 38):
@@ -210,27 +182,10 @@ TEST(DepthGolden, PanoramaOnMeasuredDepth) {
 }
 
 TEST(DepthGolden, RingOfFourCameras) {
-  ViewSpec birdseye;
-  birdseye.name = "ring_birdseye";
-  birdseye.type = ViewType::kBirdseye;
-  birdseye.width = birdseye.height = 400;
-  birdseye.pitch_deg = 90;
-  birdseye.height_m = 4;
-  birdseye.ground_z = -0.5;
-  birdseye.hfov_deg = 100;
+  const ViewSpec birdseye = test::birdseye_spec("ring_birdseye");
   const Variants b = run(birdseye, ring_of_four());
   report("ring, bird's-eye", b);
-  ViewSpec panorama;
-  panorama.name = "ring_panorama";
-  panorama.type = ViewType::kEquirectangular;
-  panorama.width = 720;
-  panorama.height = 240;
-  panorama.fov_deg = 360;
-  panorama.lat_min_deg = -60;
-  panorama.lat_max_deg = 30;
-  panorama.radius = 3;
-  panorama.ground = true;
-  panorama.ground_z = -0.5;
+  const ViewSpec panorama = test::panorama_spec("ring_panorama");
   const Variants p = run(panorama, ring_of_four());
   report("ring, panorama", p);
   // Measured (release, stop 38):

@@ -42,6 +42,48 @@ synthetic::Scene furnished_room() {
 
 Pose T_world_body() { return make_pose(Vec3(0, 0, 0.5), 0, 0, 0); }
 
+ViewSpec birdseye_spec(const std::string& name) {
+  ViewSpec v;
+  v.name = name;
+  v.type = ViewType::kBirdseye;
+  v.width = v.height = 400;
+  v.pitch_deg = 90;
+  v.height_m = 4;
+  v.ground_z = -0.5;  // the floor, in the body frame
+  v.hfov_deg = 100;
+  return v;
+}
+
+ViewSpec front_spec(const std::string& name) {
+  ViewSpec v;
+  v.name = name;
+  v.type = ViewType::kPerspective;
+  v.width = 512;
+  v.height = 256;
+  v.position = Vec3(0.42, 0, 0.02);
+  v.pitch_deg = 27;
+  v.hfov_deg = 100;
+  v.distance = 3;
+  v.ground = true;
+  v.ground_z = -0.5;
+  return v;
+}
+
+ViewSpec panorama_spec(const std::string& name) {
+  ViewSpec v;
+  v.name = name;
+  v.type = ViewType::kEquirectangular;
+  v.width = 720;
+  v.height = 240;
+  v.fov_deg = 360;
+  v.lat_min_deg = -60;
+  v.lat_max_deg = 30;
+  v.radius = 3;
+  v.ground = true;
+  v.ground_z = -0.5;
+  return v;
+}
+
 ViewTruth view_truth(const synthetic::Scene& scene, const Rig& rig, const ViewSpec& spec) {
   const auto view = View::create(spec);
   const std::string frame = spec.frame.empty() ? rig.default_frame() : spec.frame;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <opencv2/core/mat.hpp>
@@ -19,6 +20,13 @@ namespace omniview::test {
 // World z = 0 is the floor; the body stands 0.5 m above it at the origin.
 synthetic::Scene furnished_room();
 Pose T_world_body();
+
+// The views the depth tests build (fixed surfaces; set depth to measure): a bird's-eye view
+// 4 m over the floor, a front view as config/spot.yaml's (at the front cameras, pitched down,
+// the floor cut in), a 360 deg panorama on a 3 m sphere with the floor cut in.
+ViewSpec birdseye_spec(const std::string& name = "birdseye");
+ViewSpec front_spec(const std::string& name = "front");
+ViewSpec panorama_spec(const std::string& name = "panorama");
 
 // The view as a camera at its pose would see it: grey (luma, one ray per pixel centre),
 // the hit point in the view frame (NaN where the ray hits nothing), and 255 where some rig
