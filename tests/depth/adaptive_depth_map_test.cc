@@ -3,7 +3,8 @@
 // everywhere, never a picture where the exact map is black (a pixel every camera sees
 // hidden) nor black where it has one, coordinates within a fraction of a pixel. On the
 // furnished room, from one VLP-16 rotation (rings, gaps, silhouettes) and from the exact
-// depth of the scene, for a front, a bird's-eye and a panorama view.
+// depth of the scene, for a front, a bird's-eye and a panorama view, on Spot's cameras and
+// on a ring of four.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -53,9 +54,9 @@ Agreement compare(const Rig& rig, const FusionMap& exact, const FusionMap& adapt
           seen_same ? double(close) / double(seen_same) : 1.0, worst};
 }
 
-void expect_agreement(const ViewSpec& fixed_spec) {
+void expect_agreement(const ViewSpec& fixed_spec, std::shared_ptr<Rig> rig = nullptr) {
   const synthetic::Scene scene = test::furnished_room();
-  const auto rig = test::rig_in_world(test::T_world_body());
+  if (!rig) rig = test::rig_in_world(test::T_world_body());
   ViewSpec spec = fixed_spec;
   spec.depth = Depth::kMeasured;
   const DepthSurface surface(spec);
@@ -104,6 +105,11 @@ TEST(AdaptiveDepthMap, FrontViewAgreesWithExact) { expect_agreement(test::front_
 TEST(AdaptiveDepthMap, BirdseyeAgreesWithExact) { expect_agreement(test::birdseye_spec()); }
 
 TEST(AdaptiveDepthMap, PanoramaAgreesWithExact) { expect_agreement(test::panorama_spec()); }
+
+TEST(AdaptiveDepthMap, RingOfFourAgreesWithExact) {
+  expect_agreement(test::birdseye_spec("ring_birdseye"), test::ring_of_four());
+  expect_agreement(test::panorama_spec("ring_panorama"), test::ring_of_four());
+}
 
 }  // namespace
 }  // namespace omniview

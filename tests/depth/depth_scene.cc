@@ -42,6 +42,26 @@ synthetic::Scene furnished_room() {
 
 Pose T_world_body() { return make_pose(Vec3(0, 0, 0.5), 0, 0, 0); }
 
+std::shared_ptr<Rig> ring_of_four() {
+  auto rig = std::make_shared<Rig>("body");
+  const double d = M_PI / 180;
+  const char* names[] = {"front", "left", "back", "right"};
+  for (int k = 0; k < 4; ++k) {
+    Camera c;
+    c.name = names[k];
+    c.model = CameraModel(PinholeRadtan(250, 250, 319.5, 239.5));
+    c.width = 640;
+    c.height = 480;
+    const double yaw = 90.0 * k * d;
+    c.T_parent_cam = make_pose(Vec3(0.3 * std::cos(yaw), 0.3 * std::sin(yaw), 0.1), yaw, 20 * d, 0);
+    c.T_parent_cam.linear() = c.T_parent_cam.linear() * R_view_optical();
+    rig->add_camera(c);
+  }
+  rig->add_frame("lidar", "body", T_body_lidar());
+  rig->add_frame("world", "body", T_world_body().inverse());
+  return rig;
+}
+
 ViewSpec birdseye_spec(const std::string& name) {
   ViewSpec v;
   v.name = name;

@@ -21,6 +21,11 @@ namespace omniview::test {
 synthetic::Scene furnished_room();
 Pose T_world_body();
 
+// A ring of four cameras 90 deg apart, 0.3 m out from the body's centre, pitched 20 deg
+// down, each 104 deg wide (a car's or a custom robot's surround rig), with the "lidar" and
+// "world" frames of rig_in_world.
+std::shared_ptr<Rig> ring_of_four();
+
 // The views the depth tests build (fixed surfaces; set depth to measure): a bird's-eye view
 // 4 m over the floor, a front view as config/spot.yaml's (at the front cameras, pitched down,
 // the floor cut in), a 360 deg panorama on a 3 m sphere with the floor cut in.
