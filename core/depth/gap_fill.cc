@@ -106,10 +106,19 @@ std::vector<float> fill_once(const ViewRays& rays, const std::vector<float>& ran
   std::mutex counts;
   parallel_rows(cv::Range(0, h), [&](const cv::Range& rows) {
     size_t my_filled = 0, my_replaced = 0;
+    std::vector<int> candidates(w);
     for (int v = rows.start; v < rows.end; ++v) {
+      // Most of a view has no sample within reach in any direction (beyond the lidar's
+      // field, or the sky): pick the pixels that do in one branch-free sweep of the row.
+      const size_t row = size_t(v) * w;
+      int n = 0;
       for (int u = 0; u < w; ++u) {
-        const size_t i = size_t(v) * w + u;
-        if (!rays.valid[i]) continue;
+        candidates[n] = u;
+        n += (left[row + u] | right[row + u] | up[row + u] | down[row + u]) != 0 && rays.valid[row + u];
+      }
+      for (int k = 0; k < n; ++k) {
+        const int u = candidates[k];
+        const size_t i = row + u;
         float best = 0.f;
         const int l = left[i], r = right[i], a = up[i], b = down[i];
         if (l && r && l + r <= reach) {
