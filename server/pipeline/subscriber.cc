@@ -149,6 +149,11 @@ uint64_t Subscriber::frames_sent() const {
   return sent_;
 }
 
+void Subscriber::starts_reading() {
+  std::lock_guard lock(mutex_);
+  dropped_ = 0;
+}
+
 uint64_t Subscriber::frames_dropped() const {
   std::lock_guard lock(mutex_);
   return dropped_;

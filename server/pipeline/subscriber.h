@@ -90,6 +90,10 @@ class Subscriber {
 
   uint64_t frames_sent() const;
   uint64_t frames_dropped() const;
+  // The client starts reading only now (a WebRTC viewer, after its offer was answered):
+  // frames replaced in the slot before then were not lost by reading too slowly, and are
+  // not counted as dropped.
+  void starts_reading();
 
  private:
   bool offer_video(const SharedFrame& frame);

@@ -379,6 +379,8 @@ bool WhepSession::push(const v1::Frame& frame) {
 }
 
 void WhepSession::feed() {
+  // Frames came while webrtcbin negotiated (a few hundred ms): the viewer did not miss them.
+  subscriber_->starts_reading();
   const auto usable = [&](const v1::Frame& frame) {
     if (awaiting_key_ && !frame.key_frame()) return false;  // it depends on frames the viewer did not get
     awaiting_key_ = false;

@@ -67,6 +67,27 @@ TEST(VideoSubscriber, StartsAtAKeyFrameAndSkipsToTheNextAfterAMissedFrame) {
   EXPECT_TRUE((*got)->key_frame());
 }
 
+// A WebRTC viewer subscribes before its offer is answered and reads only after: what its
+// slot lost meanwhile is not a drop of its own; what it loses once reading is.
+TEST(VideoSubscriber, DropsCountFromWhenTheClientStartsReading) {
+  auto video = std::make_shared<VideoStream>(h264_key());
+  Subscriber s("peer", h264_key(), video, false);
+  const auto now = Clock::now();
+  s.offer(frame(1, true), now);
+  s.offer(frame(2, false), now);  // replaces nothing it could decode: both go
+  s.offer(frame(3, true), now);
+  s.offer(frame(4, true), now);
+  ASSERT_EQ(s.frames_dropped(), 3u);
+  s.starts_reading();
+  EXPECT_EQ(s.frames_dropped(), 0u);
+  auto got = s.take(0ms);
+  ASSERT_TRUE(got && *got);
+  EXPECT_EQ((*got)->sequence(), 4u);
+  s.offer(frame(5, true), now);
+  s.offer(frame(6, true), now);  // 5 never read
+  EXPECT_EQ(s.frames_dropped(), 1u);
+}
+
 // The rate the view's frames come at, as LiveView's statistics measure it.
 constexpr double kViewFps = 15;
 
