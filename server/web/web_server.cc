@@ -261,7 +261,16 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
       r.status = 204;
       r.headers = {{"Allow", allow}};
       if (id.empty()) r.headers.emplace_back("Accept-Post", "application/sdp");
-      for (auto& link : whep_->ice_server_links()) r.headers.push_back(std::move(link));
+      // The ICE servers only to a caller who may watch: a TURN server's Link holds its
+      // password (an OPTIONS without a token got it, and with it an open relay). Without a
+      // valid token the answer is still 204 (a CORS preflight carries none), without Links.
+      const auto header = request.find(http::field::authorization);
+      std::optional<std::string_view> authorization;
+      if (header != request.end()) authorization = std::string_view(header->value().data(), header->value().size());
+      Caller who;
+      if (auth_.check_header(authorization, permissions::role_for("whep:POST").value_or(Role::kOperator), &who).ok()) {
+        for (auto& link : whep_->ice_server_links()) r.headers.push_back(std::move(link));
+      }
       done(std::move(r));
       return true;
     }

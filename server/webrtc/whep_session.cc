@@ -96,9 +96,13 @@ WhepSession::~WhepSession() {
   stop_ = true;
   subscriber_->close(ErrorKind::kCancelled, "the WebRTC viewer left");
   if (thread_.joinable()) thread_.join();
-  subscriber_.reset();  // leaves the view's group
-  // NULL first: webrtcbin's threads (ICE, DTLS) end before our callbacks' `this` goes.
+  // NULL first: webrtcbin's threads (ICE, DTLS) and the streaming threads end before our
+  // callbacks' `this` and `subscriber_` go. (The subscription was released before this
+  // once, and a viewer's key-frame request arriving in between, on the payloader's pad
+  // probe, read the released subscriber: the daemon crashed when a browser that had just
+  // frozen sent PLIs while its session ended.)
   gst_element_set_state(media_, GST_STATE_NULL);
+  subscriber_.reset();  // leaves the view's group
   g_signal_handlers_disconnect_by_data(webrtc_, this);
   GstBus* bus = gst_element_get_bus(media_);
   gst_bus_set_sync_handler(bus, nullptr, nullptr, nullptr);
@@ -147,14 +151,25 @@ void WhepSession::build(const H264Offer& offer, const MediaSettings& settings) {
   appsrc_ = gst_bin_get_by_name(GST_BIN(media_), "src");
   if (!settings.stun_server.empty()) g_object_set(webrtc_, "stun-server", settings.stun_server.c_str(), nullptr);
   if (!settings.turn_server.empty()) g_object_set(webrtc_, "turn-server", settings.turn_server.c_str(), nullptr);
-  if (settings.min_udp_port > 0) {
-    GstWebRTCICE* ice = nullptr;
-    g_object_get(webrtc_, "ice-agent", &ice, nullptr);
-    if (ice) {
+  GstWebRTCICE* ice = nullptr;
+  g_object_get(webrtc_, "ice-agent", &ice, nullptr);
+  if (ice) {
+    if (settings.min_udp_port > 0) {
       g_object_set(ice, "min-rtp-port", guint(settings.min_udp_port), "max-rtp-port", guint(settings.max_udp_port),
                    nullptr);
-      gst_object_unref(ice);
     }
+    // UDP only: ICE-TCP's passive candidates listened on TCP ports outside udp_ports, for a
+    // path TURN serves better where UDP cannot pass.
+    g_object_set(ice, "ice-tcp", FALSE, nullptr);
+    // No UPnP-IGD: libnice asked the LAN's router (SSDP M-SEARCH on every interface) to open
+    // the media port towards the internet, for every session.
+    GObject* agent = nullptr;
+    g_object_get(ice, "agent", &agent, nullptr);
+    if (agent) {
+      g_object_set(agent, "upnp", FALSE, nullptr);
+      g_object_unref(agent);
+    }
+    gst_object_unref(ice);
   }
   // The transceiver the payloader's link made: it sends only, in the offer's payload type
   // and profile, with NACK retransmission where the viewer asked for it.
@@ -270,6 +285,7 @@ void WhepSession::on_ice_state() {
 }
 
 void WhepSession::on_force_key_unit() {
+  if (stop_) return;  // ending: the feed no longer reads
   const int64_t now = Clock::now().time_since_epoch().count();
   int64_t last = last_key_request_ns_.load();
   const int64_t interval = std::chrono::duration_cast<Clock::duration>(kKeyRequestInterval).count();

@@ -155,6 +155,7 @@ class WhepTest(unittest.TestCase):
             self.assertIn("H264/90000", answer)
             self.assertRegex(answer, r"a=rtcp-fb:\d+ nack\r?\n", "NACK retransmission is on")
             self.assertRegex(answer, r"a=candidate:.* typ host", "the answer holds the daemon's candidates")
+            self.assertNotRegex(answer, r"(?i)a=candidate:\S+ \d+ TCP ", "UDP media only: no ICE-TCP candidates")
             await pc.setRemoteDescription(RTCSessionDescription(sdp=answer, type="answer"))
             await asyncio.wait_for(enough.wait(), seconds(30))
             self.assertEqual(self.webrtc_clients(), 1)

@@ -177,6 +177,17 @@ class WhepThroughTurn(unittest.TestCase):
         relayed = [int(b) for b in re.findall(r"peer usage: .*username=<robot>, .*sb=(\d+)", log)]
         self.assertTrue(relayed and max(relayed) > 10000, "the relay carried no picture:\n" + log[-3000:])
 
+    def test_the_relay_password_only_for_a_token_that_may_watch(self):
+        http = self.start(TURN_PASSWORD)
+        for token in (None, "wrong-token"):
+            status, _, headers = http.request("OPTIONS", "/whep/front", token=token)
+            self.assertEqual(status, 204)
+            self.assertNotIn(TURN_PASSWORD, str(headers), f"OPTIONS with token {token} got the TURN password")
+        status, _, headers = http.request("OPTIONS", "/whep/front")  # the viewer's token
+        self.assertEqual(status, 204)
+        self.assertIn(f'credential="{TURN_PASSWORD}"', headers.get("Link", ""))
+        http.close()
+
     def test_a_wrong_relay_password_leaves_the_lan_path_working(self):
         http = self.start("not-the-password")
         frames, answer, _ = asyncio.run(watch(http, frames_wanted=5))
