@@ -217,7 +217,7 @@ class BandBuilder {
     const float x = b.px[N / 2][N / 2], y = b.py[N / 2][N / 2], z = b.pz[N / 2][N / 2];
     const float xs[2] = {x, x * (1 + kProbe)}, ys[2] = {y, y * (1 + kProbe)}, zs[2] = {z, z * (1 + kProbe)};
     const uint8_t valid[2] = {1, 1};
-    float u[2], v[2], score[2];
+    float u[2] = {}, v[2] = {}, score[2] = {};
     project_camera_row(setups_[cam], 2, xs, ys, zs, valid, u, v, score);
     if (score[0] == kInvalid || score[1] == kInvalid) return 0;
     const float shift = std::max(std::abs(u[1] - u[0]), std::abs(v[1] - v[0]));
