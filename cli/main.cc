@@ -14,6 +14,7 @@
 #include "cli/export_command.h"
 #include "cli/render_command.h"
 #include "core/io/yaml_reader.h"
+#include "core/map/worker_threads.h"
 
 namespace {
 
@@ -108,6 +109,13 @@ int main(int argc, char** argv) {
   }
   const std::string command = args[0];
   const std::vector<std::string> rest(args.begin() + 1, args.end());
+  try {
+    // OMNIVIEW_THREADS caps the map and depth loops' threads, as for omniviewd.
+    omniview::apply_worker_threads_from_env();
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "omniview: " << e.what() << "\n";
+    return 2;
+  }
   try {
     const auto it = commands().find(command);
     if (it != commands().end()) return it->second(rest);
