@@ -171,8 +171,10 @@ class BandBuilder {
     }
     const uint32_t cam = b.cam[0][0];
     if (cam == kNoCamera) return true;  // plan_block: black only if off the surface everywhere, else exact
-    const bool judged = judged_all(b.x[0], b.y[0], b.x_end - 1, b.y_end - 1);
-    if (!judged) return occlusion_->judged.empty() ? false : judged_none(b.x[0], b.y[0], b.x_end - 1, b.y_end - 1);
+    // Judged nowhere in the block: no occlusion applies, the samples tell all. Judged in part: exact.
+    const int judged = judged_count(b.x[0], b.y[0], b.x_end - 1, b.y_end - 1);
+    if (judged == 0) return true;
+    if (judged < (b.x_end - b.x[0]) * (b.y_end - b.y[0])) return false;
     const CameraOccluder& occluder = occlusion_->cameras[cam];
     if (occluder.empty()) return true;
     const CameraSetup& c = setups_[cam];
@@ -224,8 +226,7 @@ class BandBuilder {
     return shift * kMaxShare <= kDepthTolerancePx * kProbe ? kMaxShare : kDepthTolerancePx * kProbe / shift;
   }
 
-  bool judged_all(int x0, int y0, int x1, int y1) const { return judged_count(x0, y0, x1, y1) == (x1 - x0 + 1) * (y1 - y0 + 1); }
-  bool judged_none(int x0, int y0, int x1, int y1) const { return judged_count(x0, y0, x1, y1) == 0; }
+  // Pixels of [x0, x1] x [y0, y1] the occlusion test applies to (Occlusion::judged).
   int judged_count(int x0, int y0, int x1, int y1) const {
     if (occlusion_->judged.empty()) return (x1 - x0 + 1) * (y1 - y0 + 1);
     int n = 0;
