@@ -20,21 +20,27 @@ for p in build/daemon/omniviewd build/spot_adapter/mock/spot-mock; do
   [ -x "$p" ] || { echo "webrtc_loss.sh needs $p: run bash scripts/build.sh first" >&2; exit 1; }
 done
 
-robot=ovloss-robot operator=ovloss-operator
+# Named after this run (two runs side by side do not share, or delete, each other's).
+robot=ovloss-robot-$$ operator=ovloss-operator-$$
 work=""
+remove_namespace() {
+  if ip netns pids "$1" > /dev/null 2>&1; then
+    ip netns pids "$1" | xargs -r kill 2> /dev/null || true
+    sleep 0.5
+    ip netns pids "$1" | xargs -r kill -9 2> /dev/null || true
+    ip netns del "$1" 2> /dev/null || true
+  fi
+}
 cleanup() {
-  for ns in $robot $operator; do
-    if ip netns pids $ns > /dev/null 2>&1; then
-      ip netns pids $ns | xargs -r kill 2> /dev/null || true
-      sleep 0.5
-      ip netns pids $ns | xargs -r kill -9 2> /dev/null || true
-      ip netns del $ns 2> /dev/null || true
-    fi
-  done
+  for ns in $robot $operator; do remove_namespace $ns; done
   [ -z "$work" ] || rm -rf "$work"
 }
 trap cleanup EXIT INT TERM
-cleanup  # namespaces an earlier run left (killed hard) go first
+# Namespaces an earlier run left (killed hard: no trap ran) go first: those whose script
+# no longer runs.
+for ns in $(ip netns list 2> /dev/null | awk '/^ovloss-(robot|operator)-[0-9]+/ {print $1}'); do
+  kill -0 "${ns##*-}" 2> /dev/null || remove_namespace "$ns"
+done
 work=$(mktemp -d /tmp/omniview_webrtc_loss.XXXXXX)
 
 ip netns add $robot

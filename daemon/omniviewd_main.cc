@@ -134,7 +134,8 @@ int main(int argc, char** argv) {
       std::cerr << "omniviewd: console and Foxglove WebSocket on " << daemon.web_url()
                 << (config.tokens.empty() ? "" : " (tokens required)") << std::endl;
       if (const std::string whep = daemon.whep_summary(); !whep.empty()) {
-        std::cerr << "omniviewd: WebRTC (WHEP): " << whep << std::endl;
+        std::cerr << "omniviewd: WebRTC (WHEP): " << whep << (config.tokens.empty() || whep.rfind("off:", 0) == 0 ? "" : " (tokens required)")
+                  << std::endl;
       }
     }
     if (config.blackbox) {

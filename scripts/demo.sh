@@ -124,9 +124,10 @@ if [ "$keep_serving" = 0 ]; then exit 0; fi
 cat << EOF
 
 omniviewd keeps serving on 127.0.0.1:50051 (and spot-mock on 50443) until you press
-Ctrl-C. Watch it in a browser: http://127.0.0.1:8765/?layout=split (the operator console;
-drag to steer the front view, tap the bird's-eye to look there), or connect Foxglove or
-Lichtblick to ws://127.0.0.1:8765. In another terminal:
+Ctrl-C. Watch it in a browser: http://127.0.0.1:8765/?layout=split (the operator console,
+over WebRTC where the browser can: drag to steer the front view, tap the bird's-eye to look
+there), or connect Foxglove or Lichtblick to ws://127.0.0.1:8765. Any WHEP player watches a
+view over WebRTC: http://127.0.0.1:8765/whep/VIEW (e.g. .../whep/front). In another terminal:
   $omniview watch birdseye              # live frame rate, latency and skipped frames
   $omniview ptz ptz --dpan 10           # pan the virtual camera 10 degrees left
   $omniview views get front             # a view as YAML: edit it, then 'views update --file'

@@ -267,8 +267,11 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
       const auto header = request.find(http::field::authorization);
       std::optional<std::string_view> authorization;
       if (header != request.end()) authorization = std::string_view(header->value().data(), header->value().size());
+      // To such a caller, an unknown view or session is 404 as its POST or DELETE would be
+      // (not to others: view names are for those who may watch).
       Caller who;
       if (auth_.check_header(authorization, permissions::role_for("whep:POST").value_or(Role::kOperator), &who).ok()) {
+        if (std::string unknown = whep_->unknown(view, id); !unknown.empty()) return reply(404, std::move(unknown));
         for (auto& link : whep_->ice_server_links()) r.headers.push_back(std::move(link));
       }
       done(std::move(r));
@@ -288,10 +291,14 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
       Caller who;
       const grpc::Status s = auth_.check_header(authorization, needed.value_or(Role::kOperator), &who);
       if (!s.ok()) {
-        log_refusal(peer, s.error_message());
-        return reply(http_status(kind_of(s.error_code())),
-                     s.error_message() + " (WHEP: send 'Authorization: Bearer TOKEN')",
-                     {{"WWW-Authenticate", "Bearer"}});
+        log_refusal(peer, "WHEP " + std::string(posting ? "POST" : "DELETE") + ": " + s.error_message());
+        // In HTTP's words: the authenticator's speak of gRPC metadata.
+        const bool no_token = s.error_code() == grpc::StatusCode::UNAUTHENTICATED && header == request.end();
+        const std::string why = no_token ? "a token is needed: send 'Authorization: Bearer TOKEN'"
+                                : s.error_code() == grpc::StatusCode::UNAUTHENTICATED && s.error_message() != "unknown token"
+                                    ? "malformed Authorization header: send 'Authorization: Bearer TOKEN'"
+                                    : s.error_message();
+        return reply(http_status(kind_of(s.error_code())), why, {{"WWW-Authenticate", "Bearer"}});
       }
       const std::string client = peer.substr(0, peer.rfind(':'));
       const auto type = request.find(http::field::content_type);
@@ -299,10 +306,10 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
       const bool post = request.method() == http::verb::post;
       const std::string body = post ? request.body() : "";
       // Off the I/O thread: the offer/answer and a session's end wait on GStreamer's threads.
-      net::post(workers_, [this, post, view, id, content_type, body, client, peer, done = std::move(done)] {
+      net::post(workers_, [this, post, view, id, content_type, body, client, peer, who, done = std::move(done)] {
         HttpReply a;
         try {
-          a = post ? whep_->create(view, content_type, body, client, peer) : whep_->remove(view, id);
+          a = post ? whep_->create(view, content_type, body, client, peer, who) : whep_->remove(view, id, peer, who);
         } catch (const std::exception& e) {
           std::cerr << "omniviewd: web: " << peer << ": WHEP: internal error: " << e.what() << std::endl;
           a.status = 500;

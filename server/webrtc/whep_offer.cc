@@ -56,6 +56,27 @@ int profile_rank(const std::string& profile_level_id) {
   return 3;
 }
 
+// GStreamer's parser reads an m-line's port with atoi ("m=video foo" is port 0, "rejected"):
+// the first video m-line's port and protocol are checked as text here.
+void check_video_line(const std::string& sdp) {
+  std::istringstream lines(sdp);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.rfind("m=video ", 0) != 0) continue;
+    std::istringstream fields(line.substr(8));
+    std::string port, proto;
+    fields >> port >> proto;
+    const std::string digits = port.substr(0, port.find('/'));  // "9/2": a port count
+    if (digits.empty() || digits.size() > 5 || digits.find_first_not_of("0123456789") != std::string::npos ||
+        std::stoi(digits) > 65535 || proto.empty()) {
+      throw std::invalid_argument("the offer's video m-line is malformed ('" + line.substr(0, 80) +
+                                  "'): 'm=video PORT UDP/TLS/RTP/SAVPF PAYLOAD-TYPES' expected");
+    }
+    return;
+  }
+}
+
 }  // namespace
 
 H264Offer read_h264_offer(const std::string& sdp) {
@@ -74,6 +95,7 @@ H264Offer read_h264_offer(const std::string& sdp) {
     if (gst_sdp_media_get_media(m) != nullptr && std::string(gst_sdp_media_get_media(m)) == "video") video = m;
   }
   if (video == nullptr) throw std::invalid_argument("the offer has no video m-line: a view is video only");
+  check_video_line(sdp);
   if (gst_sdp_media_get_port(video) == 0) throw std::invalid_argument("the offer's video m-line is rejected (port 0)");
   if (gst_sdp_media_get_attribute_val(video, "sendonly") != nullptr ||
       gst_sdp_media_get_attribute_val(video, "inactive") != nullptr) {
@@ -114,6 +136,11 @@ H264Offer read_h264_offer(const std::string& sdp) {
     best.payload_type = pt;
     best.profile_level_id = profile;
     best.nack = has_rtcp_fb(video, pt, "nack");
+  }
+  if (best_rank == 4 && offered.empty() && gst_sdp_media_formats_len(video) > 0) {
+    // Payload types listed, none described: not "no H.264" but an offer cut short.
+    throw std::invalid_argument("the offer's video lists payload types but no a=rtpmap line for any (a truncated "
+                                "offer?)");
   }
   if (best_rank == 4) {
     std::string list;

@@ -54,6 +54,10 @@ std::string new_session_id() {
   return id;  // 128 random bits: not guessable from another session's
 }
 
+std::string no_session(const std::string& view, const std::string& id) {
+  return "no WebRTC session /whep/" + view + "/" + id + " (ended, or never made)";
+}
+
 HttpReply text(int status, std::string body) {
   HttpReply a;
   a.status = status;
@@ -107,7 +111,7 @@ std::vector<std::pair<std::string, std::string>> WhepServer::ice_server_links() 
 }
 
 HttpReply WhepServer::create(const std::string& view, const std::string& content_type, const std::string& offer,
-                              const std::string& client, const std::string& peer) {
+                              const std::string& client, const std::string& peer, const Caller& who) {
   if (!unavailable_.empty()) return text(503, "WebRTC is not available on this daemon: " + unavailable_);
   const std::string type = content_type.substr(0, content_type.find(';'));
   if (type != "application/sdp") {
@@ -126,13 +130,13 @@ HttpReply WhepServer::create(const std::string& view, const std::string& content
     std::lock_guard lock(mutex_);
     if (stopping_) return text(503, "omniviewd is shutting down");
     if (reserved_total_ >= max_total) {
-      return text(503, "this daemon serves at most " + std::to_string(max_total) +
-                           " WebRTC viewers at once (web.webrtc.max_sessions, limits.max_streams); try again later");
+      return refuse(peer, 503, "this daemon serves at most " + std::to_string(max_total) +
+                                   " WebRTC viewers at once (web.webrtc.max_sessions, limits.max_streams); try again later");
     }
     if (reserved_[client] >= config_.max_sessions_per_client) {
-      return text(503, "at most " + std::to_string(config_.max_sessions_per_client) +
-                           " WebRTC viewers from one address (web.webrtc.max_sessions_per_client): end one (DELETE its "
-                           "Location) first");
+      return refuse(peer, 503, "at most " + std::to_string(config_.max_sessions_per_client) +
+                                   " WebRTC viewers from one address (web.webrtc.max_sessions_per_client): end one "
+                                   "(DELETE its Location) first");
     }
     ++reserved_[client];
     ++reserved_total_;
@@ -159,6 +163,8 @@ HttpReply WhepServer::create(const std::string& view, const std::string& content
     if (failure.kind == ErrorKind::kInternal) {
       std::cerr << "omniviewd: webrtc: " << peer << ": " << failure.message << std::endl;
     }
+    // The daemon's side failed (no ICE candidate, ...): the operator reads why in the log too.
+    if (failure.kind == ErrorKind::kUnavailable) return refuse(peer, 503, failure.message);
     return text(http_status(failure.kind), failure.message);
   }
   const std::string id = new_session_id();
@@ -172,26 +178,51 @@ HttpReply WhepServer::create(const std::string& view, const std::string& content
   a.headers.emplace_back("Omniview-Capture-Clock", "rtp=" + std::to_string(session->rtp_offset()) +
                                                        "; unix_us=" + std::to_string(session->capture_epoch_us()));
   for (auto& link : ice_server_links()) a.headers.push_back(std::move(link));
+  const bool relay_missing = session->relay_missing();
   {
     std::lock_guard lock(mutex_);
     if (stopping_) {
       release();
       return text(503, "omniviewd is shutting down");
     }
-    sessions_.emplace(id, Entry{view, client, std::move(session)});
+    sessions_.emplace(id, Entry{view, client, who.label, std::move(session)});
   }
   std::cerr << "omniviewd: webrtc: " << peer << " watches '" << view << "' (session " << id.substr(0, 8) << ")"
             << std::endl;
+  if (relay_missing && relay_warning_.admit("turn").has_value()) {
+    // Viewers on the LAN still connect; those that need the relay will not.
+    std::cerr << "omniviewd: webrtc: the TURN server (web.webrtc.turn_server) gave no relay candidate within "
+              << std::chrono::duration_cast<std::chrono::seconds>(WhepSession::kGatherTimeout).count()
+              << " s: unreachable, or it refused the configured user and password (see its log)" << std::endl;
+  }
   return a;
 }
 
-HttpReply WhepServer::remove(const std::string& view, const std::string& id) {
+std::string WhepServer::unknown(const std::string& view, const std::string& id) const {
+  if (!id.empty()) {
+    std::lock_guard lock(mutex_);
+    const auto it = sessions_.find(id);
+    return it == sessions_.end() || it->second.view != view ? no_session(view, id) : "";
+  }
+  try {
+    pipeline_.get_view(view);
+    return "";
+  } catch (const PipelineError& e) {
+    return e.what();
+  }
+}
+
+HttpReply WhepServer::remove(const std::string& view, const std::string& id, const std::string& peer,
+                             const Caller& who) {
   std::shared_ptr<WhepSession> ending;
   {
     std::lock_guard lock(mutex_);
     const auto it = sessions_.find(id);
     if (it == sessions_.end() || it->second.view != view) {
-      return text(404, "no WebRTC session /whep/" + view + "/" + id + " (ended, or never made)");
+      return text(404, no_session(view, id));
+    }
+    if (who.role != Role::kOperator && who.label != it->second.owner) {
+      return text(403, "this session was made with another token: that token or an operator's ends it");
     }
     ending = std::move(it->second.session);
     if (--reserved_[it->second.client] == 0) reserved_.erase(it->second.client);
@@ -199,7 +230,18 @@ HttpReply WhepServer::remove(const std::string& view, const std::string& id) {
     sessions_.erase(it);
   }
   ending.reset();  // outside the lock: it waits for its feed thread and the media's
+  std::cerr << "omniviewd: webrtc: session " << id.substr(0, 8) << " on '" << view << "' ended: DELETE from " << peer
+            << std::endl;
   return text(200, "session ended");
+}
+
+HttpReply WhepServer::refuse(const std::string& peer, int status, std::string why) {
+  if (const auto left_out = refusals_.admit(peer)) {
+    std::cerr << "omniviewd: webrtc: refused " << peer << ": " << why
+              << (*left_out ? " (and " + std::to_string(*left_out) + " more refusals from this host not logged)" : "")
+              << std::endl;
+  }
+  return text(status, std::move(why));
 }
 
 size_t WhepServer::sessions() const {
@@ -215,11 +257,9 @@ void WhepServer::sweep() {
     std::vector<std::pair<std::string, std::shared_ptr<WhepSession>>> now_serving;
     for (const auto& [id, entry] : sessions_) now_serving.emplace_back(id, entry.session);
     lock.unlock();
-    // Outside the lock (webrtcbin's stats take a moment): a POST or DELETE meanwhile waits for nothing.
     std::vector<std::pair<std::string, std::string>> over;  // id, why
     for (const auto& [id, session] : now_serving) {
       const auto now = WhepSession::Clock::now();
-      session->check_viewer(now);
       std::string why = session->gone(now, kConnectTimeout, kDisconnectedGrace);
       if (!why.empty()) over.emplace_back(id, std::move(why));
     }

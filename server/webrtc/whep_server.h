@@ -15,6 +15,8 @@
 #include <utility>
 #include <vector>
 
+#include "server/auth/authenticator.h"
+#include "server/auth/refusal_log.h"
 #include "server/config/daemon_config.h"
 #include "server/pipeline/pipeline.h"
 #include "server/web/http/http_reply.h"
@@ -44,10 +46,15 @@ class WhepServer {
   // POST /whep/VIEW: `client` is the peer's address without its port (limits are per
   // address). Blocks for the offer/answer (tens of milliseconds; ICE gathering at most 3 s):
   // call it off the I/O thread.
+  // `who`: the token it came with (its session may be ended by that token or an operator's).
   HttpReply create(const std::string& view, const std::string& content_type, const std::string& offer,
-                    const std::string& client, const std::string& peer);
-  // DELETE /whep/VIEW/ID.
-  HttpReply remove(const std::string& view, const std::string& id);
+                    const std::string& client, const std::string& peer, const Caller& who);
+  // DELETE /whep/VIEW/ID (`peer` for the log): by the token that made the session, or an
+  // operator's. (Its id is 128 random bits, so only who was answered knows it; but a viewer
+  // token shared by a team should not let one member end another's picture.)
+  HttpReply remove(const std::string& view, const std::string& id, const std::string& peer, const Caller& who);
+  // Empty where `view` (and, given, the session `id` on it) exists; else the 404's text.
+  std::string unknown(const std::string& view, const std::string& id) const;
   // The ICE servers as WHEP's Link headers (to every answer and to OPTIONS).
   std::vector<std::pair<std::string, std::string>> ice_server_links() const;
 
@@ -57,9 +64,13 @@ class WhepServer {
   struct Entry {
     std::string view;
     std::string client;
+    std::string owner;  // the label of the token that made it
     std::shared_ptr<WhepSession> session;  // shared: the sweeper checks it outside the lock
   };
   void sweep();  // the sweeper thread
+  // A refusal on the daemon's side (a limit, no ICE candidate): answered, and logged at
+  // most a few times in ten seconds per host (a flood of offers writes a few lines).
+  HttpReply refuse(const std::string& peer, int status, std::string why);
 
   const WebRtcConfig config_;
   const Limits limits_;
@@ -70,6 +81,8 @@ class WhepServer {
   std::map<std::string, int> reserved_;           // per client: sessions being made or made
   int reserved_total_ = 0;
   bool stopping_ = false;
+  RefusalLog refusals_;
+  RefusalLog relay_warning_{1, std::chrono::minutes(1)};  // "no relay candidate": once a minute at most
   std::condition_variable wake_;
   std::thread sweeper_;
 };

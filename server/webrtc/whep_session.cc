@@ -4,6 +4,8 @@
 #include <gst/app/gstappsrc.h>
 #include <gst/sdp/sdp.h>
 #include <gst/webrtc/webrtc.h>
+#include <ifaddrs.h>
+#include <net/if.h>
 #include <pthread.h>
 
 #include <random>
@@ -13,17 +15,12 @@
 namespace omniview::webrtc {
 namespace {
 
-// How long ICE may take to gather the daemon's candidates before the answer goes out with
-// those it has (host candidates take milliseconds; a STUN server's reflexive one a round trip).
-constexpr auto kGatherTimeout = std::chrono::seconds(3);
 // A viewer's PLI/FIR asks the shared encoder for a key frame at most this often, so one bad
 // link cannot turn everyone's stream into key frames.
 constexpr auto kKeyRequestInterval = std::chrono::seconds(1);
 // Unsent bytes in the media past which frames are skipped until the next key frame (a link
 // slower than the stream: better a skip than seconds of delay).
 constexpr guint64 kMaxQueuedBytes = 4 << 20;
-// A cached key frame younger than this starts the viewer's picture at once (as RTSP's).
-constexpr auto kCachedKeyFrameAge = std::chrono::seconds(2);
 
 int64_t unix_us_now() {
   return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
@@ -81,6 +78,7 @@ WhepSession::WhepSession(Pipeline& pipeline, std::string view, const std::string
       gst_element_set_state(media_, GST_STATE_NULL);
       gst_object_unref(webrtc_);
       gst_object_unref(appsrc_);
+      if (rtpbin_) gst_object_unref(rtpbin_);
       gst_object_unref(media_);
     }
     subscriber_.reset();
@@ -104,6 +102,10 @@ WhepSession::~WhepSession() {
   gst_element_set_state(media_, GST_STATE_NULL);
   subscriber_.reset();  // leaves the view's group
   g_signal_handlers_disconnect_by_data(webrtc_, this);
+  if (rtpbin_) {
+    g_signal_handlers_disconnect_by_data(rtpbin_, this);
+    gst_object_unref(rtpbin_);
+  }
   GstBus* bus = gst_element_get_bus(media_);
   gst_bus_set_sync_handler(bus, nullptr, nullptr, nullptr);
   gst_object_unref(bus);
@@ -153,6 +155,8 @@ void WhepSession::build(const H264Offer& offer, const MediaSettings& settings) {
   if (!settings.turn_server.empty()) g_object_set(webrtc_, "turn-server", settings.turn_server.c_str(), nullptr);
   GstWebRTCICE* ice = nullptr;
   g_object_get(webrtc_, "ice-agent", &ice, nullptr);
+  settings_ports_ = {settings.min_udp_port, settings.max_udp_port};
+  has_turn_server_ = !settings.turn_server.empty();
   if (ice) {
     if (settings.min_udp_port > 0) {
       g_object_set(ice, "min-rtp-port", guint(settings.min_udp_port), "max-rtp-port", guint(settings.max_udp_port),
@@ -189,6 +193,20 @@ void WhepSession::build(const H264Offer& offer, const MediaSettings& settings) {
 
   g_signal_connect_swapped(webrtc_, "notify::ice-connection-state", G_CALLBACK(+[](WhepSession* self) {
                              self->on_ice_state();
+                           }),
+                           this);
+  // The viewer is alive while its RTCP comes (any packet: a receiver report, a NACK, a
+  // PLI). Not from webrtcbin's stats: their remote-inbound entry moves on only while our
+  // sending source counts as active, and after the daemon stalled a few seconds it did not
+  // for a while, so a viewer that was fine was ended ~10 s after the stall in half the runs.
+  rtpbin_ = gst_bin_get_by_name(GST_BIN(webrtc_), "rtpbin");
+  if (rtpbin_ == nullptr) throw std::runtime_error("webrtcbin has no 'rtpbin' (an unexpected GStreamer version)");
+  g_signal_connect_swapped(rtpbin_, "on-ssrc-active", G_CALLBACK(+[](WhepSession* self) {
+                             self->on_viewer_rtcp(false);
+                           }),
+                           this);
+  g_signal_connect_swapped(rtpbin_, "on-bye-ssrc", G_CALLBACK(+[](WhepSession* self) {
+                             self->on_viewer_rtcp(true);
                            }),
                            this);
   GstBus* bus = gst_element_get_bus(media_);
@@ -269,6 +287,34 @@ void WhepSession::negotiate(const std::string& offer_sdp) {
   answer_ = text ? text : "";
   g_free(text);
   gst_webrtc_session_description_free(local);
+  // An answer without a candidate cannot connect: the viewer would wait for ICE in vain.
+  if (answer_.find("a=candidate:") == std::string::npos) throw PipelineError(ErrorKind::kUnavailable, no_candidate_reason());
+  relay_missing_ = has_turn_server_ && answer_.find(" typ relay") == std::string::npos;
+}
+
+std::string WhepSession::no_candidate_reason() const {
+  // libnice offers no loopback candidate: a host whose only interface is loopback has none.
+  bool other_interface = false;
+  ifaddrs* interfaces = nullptr;
+  if (getifaddrs(&interfaces) == 0) {
+    for (const ifaddrs* i = interfaces; i != nullptr; i = i->ifa_next) {
+      if (i->ifa_addr && (i->ifa_addr->sa_family == AF_INET || i->ifa_addr->sa_family == AF_INET6) &&
+          (i->ifa_flags & IFF_UP) && !(i->ifa_flags & IFF_LOOPBACK)) {
+        other_interface = true;
+      }
+    }
+    freeifaddrs(interfaces);
+  }
+  if (!other_interface) {
+    return "no ICE candidate for the media: this host has no network interface up but loopback (WebRTC needs one "
+           "the viewer can reach over UDP)";
+  }
+  if (settings_ports_.first > 0) {
+    return "no ICE candidate for the media: no free UDP port in web.webrtc.udp_ports (" +
+           std::to_string(settings_ports_.first) + "-" + std::to_string(settings_ports_.second) +
+           "; each viewer holds one per network interface): widen the range or end a session";
+  }
+  return "no ICE candidate for the media: libnice found no UDP port to bind";
 }
 
 void WhepSession::on_ice_state() {
@@ -279,7 +325,7 @@ void WhepSession::on_ice_state() {
   ice_state_ = state;
   ice_state_since_ = Clock::now();
   if (state == GST_WEBRTC_ICE_CONNECTION_STATE_CONNECTED || state == GST_WEBRTC_ICE_CONNECTION_STATE_COMPLETED) {
-    if (!ever_connected_) reported_at_ = Clock::now();
+    if (!ever_connected_) viewer_rtcp_at_ = Clock::now();
     ever_connected_ = true;
   }
 }
@@ -294,54 +340,10 @@ void WhepSession::on_force_key_unit() {
   if (const auto& video = subscriber_->video()) video->request_key_frame();
 }
 
-namespace {
-
-// The highest sequence number the viewer's receiver reports acknowledge (RTCP RR, in
-// webrtcbin's stats of the outbound stream's remote side); -1 before the first report.
-// `bye`: the viewer sent an RTCP BYE (a browser closing its peer connection does).
-int64_t reported_sequence(const GstStructure* stats, bool& bye) {
-  int64_t highest = -1;
-  const int n = gst_structure_n_fields(stats);
-  for (int i = 0; i < n; ++i) {
-    const GValue* v = gst_structure_get_value(stats, gst_structure_nth_field_name(stats, i));
-    if (!GST_VALUE_HOLDS_STRUCTURE(v)) continue;
-    const GstStructure* s = gst_value_get_structure(v);
-    GstWebRTCStatsType type;
-    if (!gst_structure_get(s, "type", GST_TYPE_WEBRTC_STATS_TYPE, &type, nullptr) ||
-        type != GST_WEBRTC_STATS_REMOTE_INBOUND_RTP) {
-      continue;
-    }
-    const GValue* source = gst_structure_get_value(s, "gst-rtpsource-stats");
-    if (source == nullptr || !GST_VALUE_HOLDS_STRUCTURE(source)) continue;
-    const GstStructure* rtp = gst_value_get_structure(source);
-    gboolean received_bye = FALSE;
-    if (gst_structure_get_boolean(rtp, "received-bye", &received_bye) && received_bye) bye = true;
-    gboolean have_rb = FALSE;
-    guint sequence = 0;
-    if (gst_structure_get_boolean(rtp, "have-rb", &have_rb) && have_rb &&
-        gst_structure_get_uint(rtp, "rb-exthighestseq", &sequence)) {
-      highest = std::max<int64_t>(highest, sequence);
-    }
-  }
-  return highest;
-}
-
-}  // namespace
-
-void WhepSession::check_viewer(Clock::time_point now) {
-  GstPromise* promise = gst_promise_new();
-  g_signal_emit_by_name(webrtc_, "get-stats", nullptr, promise);
-  const bool replied = gst_promise_wait(promise) == GST_PROMISE_RESULT_REPLIED;
-  const GstStructure* stats = replied ? gst_promise_get_reply(promise) : nullptr;
-  bool bye = false;
-  const int64_t sequence = stats ? reported_sequence(stats, bye) : -1;
-  gst_promise_unref(promise);
+void WhepSession::on_viewer_rtcp(bool bye) {
   std::lock_guard lock(state_mutex_);
+  viewer_rtcp_at_ = Clock::now();
   viewer_said_bye_ = viewer_said_bye_ || bye;
-  if (sequence != reported_sequence_) {
-    reported_sequence_ = sequence;
-    reported_at_ = now;
-  }
 }
 
 bool WhepSession::connected() const {
@@ -367,13 +369,14 @@ std::string WhepSession::gone(Clock::time_point now, Clock::duration connect_tim
     default: break;
   }
   // A viewer that vanished without DELETE: ICE as the answering side does not notice (no
-  // consent checks in this webrtcbin), but its receiver reports stop acknowledging what we
-  // send. Judged only while frames flow (a stalled source sends nothing to acknowledge).
-  if (ever_connected_ && now - reported_at_ > disconnected_grace && now - last_push_ < std::chrono::seconds(2)) {
-    return "no receiver report from the viewer for over " + seconds(disconnected_grace);
+  // consent checks in this webrtcbin), but its RTCP (receiver reports, every second or so)
+  // stops. Judged only while frames flow (a viewer may stop reporting on a silent stream).
+  if (ever_connected_ && now - viewer_rtcp_at_ > disconnected_grace && now - last_push_ < std::chrono::seconds(2)) {
+    return "no receiver report (RTCP) from the viewer for over " + seconds(disconnected_grace);
   }
-  if (!ever_connected_ && now - created_ > connect_timeout) {
-    return "ICE did not connect within " + seconds(connect_timeout) + " of the answer";
+  if (!media_started_ && now - created_ > connect_timeout) {
+    return std::string(ever_connected_ ? "DTLS" : "ICE") + " did not connect within " + seconds(connect_timeout) +
+           " of the answer";
   }
   return "";
 }
@@ -394,29 +397,47 @@ bool WhepSession::push(const v1::Frame& frame) {
   return true;
 }
 
+bool WhepSession::media_ready() const {
+  if (!connected()) return false;
+  GstWebRTCRTPTransceiver* transceiver = nullptr;
+  g_signal_emit_by_name(webrtc_, "get-transceiver", 0, &transceiver);
+  if (transceiver == nullptr) return false;
+  GstWebRTCRTPSender* sender = nullptr;
+  g_object_get(transceiver, "sender", &sender, nullptr);
+  gst_object_unref(transceiver);
+  if (sender == nullptr) return false;
+  GstWebRTCDTLSTransport* transport = nullptr;
+  g_object_get(sender, "transport", &transport, nullptr);
+  gst_object_unref(sender);
+  if (transport == nullptr) return false;
+  GstWebRTCDTLSTransportState state = GST_WEBRTC_DTLS_TRANSPORT_STATE_NEW;
+  g_object_get(transport, "state", &state, nullptr);
+  gst_object_unref(transport);
+  return state == GST_WEBRTC_DTLS_TRANSPORT_STATE_CONNECTED;
+}
+
 void WhepSession::feed() {
-  // Frames came while webrtcbin negotiated (a few hundred ms): the viewer did not miss them.
+  // Until ICE and DTLS are up webrtcbin drops what it is given: frames wait in the slot
+  // (replaced, not counted: the viewer has not started), and the first one sent is a key
+  // frame asked for then, so the viewer's first picture is the present, not a cached key
+  // frame followed by deltas whose references it never got.
+  while (!stop_ && !media_ready()) {
+    const auto frame = subscriber_->take(std::chrono::milliseconds(50));
+    if (frame && !*frame) return view_went_away();
+  }
+  if (stop_) return;
+  media_started_ = true;
   subscriber_->starts_reading();
+  if (const auto& video = subscriber_->video()) video->request_key_frame();
   const auto usable = [&](const v1::Frame& frame) {
     if (awaiting_key_ && !frame.key_frame()) return false;  // it depends on frames the viewer did not get
     awaiting_key_ = false;
     return true;
   };
-  if (const auto& video = subscriber_->video()) {
-    const auto [cached, made] = video->last_key_frame();
-    if (cached && VideoStream::Clock::now() - made < kCachedKeyFrameAge && subscriber_->hand_over(*cached) &&
-        usable(*cached) && !push(*cached)) {
-      return;
-    }
-  }
   while (!stop_) {
     const auto frame = subscriber_->take(std::chrono::milliseconds(100));
     if (!frame) continue;
-    if (!*frame) {  // the view was deleted, or the daemon stops
-      std::lock_guard lock(state_mutex_);
-      if (media_error_.empty()) media_error_ = "the view went away: " + subscriber_->close_reason();
-      break;
-    }
+    if (!*frame) return view_went_away();  // the view was deleted, or the daemon stops
     if (!subscriber_->hand_over(**frame)) continue;
     if (gst_app_src_get_current_level_bytes(GST_APP_SRC(appsrc_)) > kMaxQueuedBytes) {
       awaiting_key_ = true;  // the link is slower than the stream: skip to a fresh key frame
@@ -426,6 +447,11 @@ void WhepSession::feed() {
     if (!usable(**frame)) continue;
     if (!push(**frame)) break;  // the media is going away
   }
+}
+
+void WhepSession::view_went_away() {
+  std::lock_guard lock(state_mutex_);
+  if (media_error_.empty()) media_error_ = "the view went away: " + subscriber_->close_reason();
 }
 
 }  // namespace omniview::webrtc

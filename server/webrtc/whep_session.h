@@ -18,6 +18,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "server/pipeline/pipeline.h"
 #include "server/webrtc/whep_offer.h"
@@ -35,11 +36,16 @@ struct MediaSettings {
 class WhepSession {
  public:
   using Clock = std::chrono::steady_clock;
+  // How long ICE may take to gather the daemon's candidates before the answer goes out with
+  // those it has (host candidates take milliseconds; a STUN server's reflexive one a round
+  // trip, a TURN server's relayed one two).
+  static constexpr auto kGatherTimeout = std::chrono::seconds(3);
 
   // Subscribes to `view`, builds the media and answers `offer_sdp` (ICE candidates gathered,
   // so the answer is complete: no trickle needed). Throws PipelineError as Pipeline::subscribe
-  // does, std::invalid_argument where webrtcbin refuses the offer, std::runtime_error
-  // where it fails otherwise.
+  // does, std::invalid_argument where webrtcbin refuses the offer, PipelineError
+  // kUnavailable where ICE found no candidate (no free port in udp_ports, no interface but
+  // loopback), std::runtime_error where it fails otherwise.
   WhepSession(Pipeline& pipeline, std::string view, const std::string& peer, const std::string& offer_sdp, const H264Offer& offer,
               const MediaSettings& settings);
   ~WhepSession();
@@ -55,24 +61,28 @@ class WhepSession {
   int64_t capture_epoch_us() const { return capture_epoch_us_; }
 
   // Empty while the viewer is (or may still become) connected; else why the session is over:
-  // ICE failed or closed, disconnected or no receiver report moved on for longer than
-  // `disconnected_grace` (check_viewer), never connected within `connect_timeout` of the
-  // answer, or the media failed.
+  // ICE failed or closed, disconnected or no RTCP from the viewer for longer than
+  // `disconnected_grace`, never connected within `connect_timeout` of the answer, the viewer
+  // said BYE, or the media failed.
   std::string gone(Clock::time_point now, Clock::duration connect_timeout, Clock::duration disconnected_grace) const;
   bool connected() const;
-  // Reads the viewer's receiver reports (webrtcbin's stats) for gone(); the sweeper calls
-  // it every half second.
-  void check_viewer(Clock::time_point now);
+  // A TURN server is configured and gave no relay candidate for the answer (unreachable, or
+  // it refused the configured user and password).
+  bool relay_missing() const { return relay_missing_; }
   uint64_t frames_sent() const { return frames_sent_; }
   uint64_t key_frames_asked() const { return key_frames_asked_; }
 
  private:
   void build(const H264Offer& offer, const MediaSettings& settings);
   void negotiate(const std::string& offer_sdp);
+  std::string no_candidate_reason() const;  // why ICE gathered nothing, for the 503
   void feed();  // the feed thread
+  bool media_ready() const;  // ICE connected and DTLS done: what is pushed reaches the viewer
+  void view_went_away();
   bool push(const v1::Frame& frame);
   void on_ice_state();
   void on_force_key_unit();
+  void on_viewer_rtcp(bool bye);
 
   Pipeline& pipeline_;
   const std::string view_;
@@ -80,7 +90,11 @@ class WhepSession {
   GstElement* media_ = nullptr;
   GstElement* webrtc_ = nullptr;
   GstElement* appsrc_ = nullptr;
+  GstElement* rtpbin_ = nullptr;  // webrtcbin's: tells when the viewer's RTCP arrives
   std::string answer_;
+  std::pair<int, int> settings_ports_{0, 0};  // web.webrtc.udp_ports (0: any)
+  bool has_turn_server_ = false;
+  bool relay_missing_ = false;
   uint32_t rtp_offset_ = 0;
   int64_t capture_epoch_us_ = 0;
   const Clock::time_point created_ = Clock::now();
@@ -89,13 +103,13 @@ class WhepSession {
   int ice_state_ = 0;  // GstWebRTCICEConnectionState
   Clock::time_point ice_state_since_ = Clock::now();
   bool ever_connected_ = false;
-  int64_t reported_sequence_ = -1;         // the viewer's last receiver report's highest sequence
-  Clock::time_point reported_at_{};        // when it last moved
+  Clock::time_point viewer_rtcp_at_{};     // when the viewer's last RTCP packet arrived
   Clock::time_point last_push_{};          // when a frame last went out
   bool viewer_said_bye_ = false;
   std::string media_error_;
 
   std::atomic<bool> stop_{false};
+  std::atomic<bool> media_started_{false};  // the feed sends (ICE and DTLS were up)
   std::atomic<int64_t> last_key_request_ns_{0};
   std::atomic<uint64_t> frames_sent_{0};
   std::atomic<uint64_t> key_frames_asked_{0};

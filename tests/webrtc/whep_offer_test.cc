@@ -66,6 +66,12 @@ TEST(WhepOffer, BadOffersSayWhatIsWrong) {
                            "rtx/90000\r\na=rtpmap:98 H264/90000\r\na=fmtp:98 packetization-mode=0\r\n"),
             "406 the offer has no H.264 with packetization-mode=1 and a dynamic payload type (offered: H264, VP8); "
             "this daemon sends its views as H.264 only");
+  // GStreamer's parser reads "foo" as port 0: said as malformed, not as rejected.
+  EXPECT_EQ(message(head + "m=video foo bar\r\n").substr(0, 44), "the offer's video m-line is malformed ('m=vi");
+  EXPECT_NE(message(head + "m=video 70000 UDP/TLS/RTP/SAVPF 96\r\n").find("malformed"), std::string::npos);
+  // Cut short after the m-line: no rtpmap for its payload types. Not "no H.264" (a 406).
+  const std::string truncated = seed("aiortc_video.sdp").substr(0, seed("aiortc_video.sdp").find("a=rtpmap"));
+  EXPECT_EQ(message(truncated).substr(0, 60), "the offer's video lists payload types but no a=rtpmap line f");
 }
 
 }  // namespace

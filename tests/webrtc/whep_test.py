@@ -9,6 +9,8 @@ import asyncio
 import http.client
 import os
 import re
+import signal
+import socket
 import sys
 import time
 import unittest
@@ -21,6 +23,11 @@ import harness  # noqa: E402
 from harness import OPERATOR_TOKEN, VIEWER_TOKEN, seconds  # noqa: E402
 
 ARGS = None
+
+# A media's streaming threads come from GStreamer's task pool (GLib's thread pool): one
+# that ran a session's task idles up to 15 s under that task's name ("nicesrc0:src") before
+# GLib ends it, so "back to zero" is judged after that.
+THREADS_GONE = harness.seconds(25)
 
 # Room for the flood below: 6 viewers in all, 4 from one address.
 WEBRTC_CONFIG = "  webrtc: {max_sessions: 6, max_sessions_per_client: 4}\n"
@@ -179,7 +186,7 @@ class WhepTest(unittest.TestCase):
         self.assertGreater(grey.std(), 10, "the decoded picture is flat: no scene in it")
         self.assertGreater(len({f.pts for f in frames}), 15, "frames repeat")
         self.wait_for("the session's client gone from the status", lambda: self.webrtc_clients() == 0, seconds(10))
-        self.wait_for("the session's threads gone", lambda: self.media_threads() == 0, seconds(15))
+        self.wait_for("the session's threads gone", lambda: self.media_threads() == 0, THREADS_GONE)
 
     def test_tokens_as_on_every_other_route(self):
         async def go():
@@ -188,13 +195,24 @@ class WhepTest(unittest.TestCase):
                 status, text, headers = self.http.request("POST", "/whep/front", offer, token=token)
                 self.assertEqual(status, expected, text)
                 self.assertEqual(headers.get("WWW-Authenticate"), "Bearer")
+                # In HTTP's words (not the gRPC metadata's the authenticator speaks of).
+                self.assertIn("Authorization: Bearer TOKEN" if token is None else "unknown token", text)
+                self.assertNotIn("metadata", text)
             for token in (VIEWER_TOKEN, OPERATOR_TOKEN):  # a viewer may watch
                 status, text, headers = self.http.request("POST", "/whep/front", offer, token=token)
                 self.assertEqual(status, 201, text)
                 status, text, _ = self.http.request("DELETE", headers["Location"], token=None)
                 self.assertEqual(status, 401, "ending a session needs a token too")
+                if token == OPERATOR_TOKEN:
+                    status, text, _ = self.http.request("DELETE", headers["Location"], token=VIEWER_TOKEN)
+                    self.assertEqual(status, 403, "another viewer's token ends no one else's session: " + text)
                 status, text, _ = self.http.request("DELETE", headers["Location"], token=token)
                 self.assertEqual(status, 200, text)
+            # An operator's token ends any session.
+            status, text, headers = self.http.request("POST", "/whep/front", offer, token=VIEWER_TOKEN)
+            self.assertEqual(status, 201, text)
+            status, text, _ = self.http.request("DELETE", headers["Location"], token=OPERATOR_TOKEN)
+            self.assertEqual(status, 200, text)
             await pc.close()
 
         asyncio.run(go())
@@ -231,7 +249,56 @@ class WhepTest(unittest.TestCase):
         status, _, headers = self.http.request("OPTIONS", "/whep/front")
         self.assertEqual(status, 204)
         self.assertEqual(headers.get("Accept-Post"), "application/sdp")
+        # OPTIONS says what POST and DELETE would of an unknown view or session (to a token
+        # that may watch; a preflight without one gets 204: view names are not for anyone).
+        status, text, _ = self.http.request("OPTIONS", "/whep/nosuchview")
+        self.assertEqual((status, "nosuchview" in text), (404, True), text)
+        status, text, _ = self.http.request("OPTIONS", "/whep/front/0123456789abcdef0123456789abcdef")
+        self.assertEqual((status, "no WebRTC session" in text), (404, True), text)
+        status, _, _ = self.http.request("OPTIONS", "/whep/nosuchview", token=None)
+        self.assertEqual(status, 204)
         self.assertEqual(self.webrtc_clients(), 0)
+
+    def test_a_viewer_keeps_its_picture_after_the_daemon_stalls_for_5_s(self):
+        # The daemon stopped (SIGSTOP) 5 s, as a loaded robot computer may: its viewer was
+        # ended ~10 s after the stall in half the runs, for webrtcbin's stats of the viewer's
+        # receiver reports stood still after it (whep_session.cc).
+        async def go():
+            pc, offer = await make_offer()
+            arrivals = []
+
+            @pc.on("track")
+            def on_track(track):
+                async def read():
+                    while True:
+                        await track.recv()
+                        arrivals.append(time.monotonic())
+                asyncio.ensure_future(read())
+
+            status, answer, headers = self.http.request("POST", "/whep/front", offer)
+            self.assertEqual(status, 201, answer)
+            await pc.setRemoteDescription(RTCSessionDescription(sdp=answer, type="answer"))
+            deadline = time.monotonic() + seconds(30)
+            while len(arrivals) < 10 and time.monotonic() < deadline:
+                await asyncio.sleep(0.1)
+            self.assertGreaterEqual(len(arrivals), 10, "no picture before the stall")
+            os.kill(self.pid, signal.SIGSTOP)
+            try:
+                await asyncio.sleep(5)
+            finally:
+                os.kill(self.pid, signal.SIGCONT)
+            resumed = time.monotonic()
+            await asyncio.sleep(seconds(20))  # twice the daemon's 10 s grace
+            late = [t for t in arrivals if t > resumed + seconds(15)]
+            self.assertGreater(len(late), 5, f"the picture stopped after the stall ({len(arrivals)} frames in all)\n" +
+                               self.robot.log.read_text()[-2000:])
+            session = headers["Location"].rsplit("/", 1)[1][:8]
+            self.assertNotIn(f"session {session} on 'front' ended", self.robot.log.read_text())
+            status, text, _ = self.http.request("DELETE", headers["Location"])
+            self.assertEqual(status, 200, text)
+            await pc.close()
+
+        asyncio.run(go())
 
     def test_a_flood_of_offers_is_capped_and_viewers_that_never_connect_are_freed(self):
         async def offer_of_a_vanished_viewer():
@@ -255,11 +322,16 @@ class WhepTest(unittest.TestCase):
         self.assertGreater(statuses[503], 900, statuses)
         self.assertIn("max_sessions_per_client", refusal)
         self.assertLessEqual(self.webrtc_clients(), 4)
+        # Nothing is sent to a viewer before its ICE and DTLS are up (webrtcbin would drop it):
+        # the status shows them with no frames sent.
+        sent = [int(m.group(1)) for m in re.finditer(r"^\s*webrtc:\S+\s+front\s+.*?(\d+)\s+(\d+)\s*$",
+                                                     self.robot.status(), re.M)]
+        self.assertEqual(sum(sent), 0, self.robot.status())
         # None of them ever connects: freed when ICE fails, at the latest ~15 s after their
         # answer (whep_server.cc).
         self.wait_for("the sessions that never connected freed", lambda: self.webrtc_clients() == 0, seconds(40))
         self.assertRegex(self.robot.log.read_text(), "ended: (ICE failed|ICE did not connect within)")
-        self.wait_for("the sessions' threads gone", lambda: self.media_threads() == 0, seconds(15))
+        self.wait_for("the sessions' threads gone", lambda: self.media_threads() == 0, THREADS_GONE)
 
         # And a real viewer is served again.
         async def watch():
@@ -283,8 +355,64 @@ class WhepTest(unittest.TestCase):
 
         asyncio.run(watch())
         self.wait_for("a viewer that vanished without DELETE freed", lambda: self.webrtc_clients() == 0, seconds(30))
-        self.assertIn("no receiver report from the viewer", self.robot.log.read_text())
-        self.wait_for("the session's threads gone", lambda: self.media_threads() == 0, seconds(15))
+        self.assertIn("no receiver report (RTCP) from the viewer", self.robot.log.read_text())
+        self.wait_for("the session's threads gone", lambda: self.media_threads() == 0, THREADS_GONE)
+
+
+def free_udp_pair():
+    """Two consecutive UDP ports free on every address now (web.webrtc.udp_ports' smallest range)."""
+    for _ in range(100):
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as a:
+            a.bind(("0.0.0.0", 0))
+            port = a.getsockname()[1]
+            if port >= 65535:
+                continue
+            try:
+                with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as b:
+                    b.bind(("0.0.0.0", port + 1))
+                    return port
+            except OSError:
+                continue
+    raise RuntimeError("no two consecutive free UDP ports")
+
+
+class WhepWithFewPorts(unittest.TestCase):
+    """web.webrtc.udp_ports with room for a viewer or two: the next is refused, not answered
+    without candidates (it waited for ICE in vain, and the log said nothing)."""
+
+    def test_a_viewer_beyond_the_udp_ports_gets_503_naming_them(self):
+        low = free_udp_pair()
+        config = f"  webrtc: {{udp_ports: \"{low}-{low + 1}\"}}\n"
+        with harness.Robot(ARGS, edit_config=lambda text: text.replace("web:\n", "web:\n" + config, 1)) as robot:
+            http = Whep(robot.web)
+
+            async def offer():
+                pc, sdp = await make_offer()
+                await pc.close()
+                return sdp
+
+            sdp = asyncio.run(offer())
+            made, refusal = [], None
+            for _ in range(4):
+                status, text, headers = http.request("POST", "/whep/front", sdp)
+                if status == 201:
+                    self.assertRegex(text, r"a=candidate:.* typ host")
+                    made.append(headers["Location"])
+                else:
+                    refusal = (status, text)
+                    break
+            self.assertGreaterEqual(len(made), 1, refusal)
+            self.assertIsNotNone(refusal, f"{len(made)} viewers on two UDP ports")
+            self.assertEqual(refusal[0], 503, refusal)
+            self.assertIn(f"web.webrtc.udp_ports ({low}-{low + 1}", refusal[1])
+            self.assertIn("refused", robot.log.read_text())
+            self.assertIn("no free UDP port", robot.log.read_text())
+            for location in made:  # their ports come back: a viewer is served again
+                self.assertEqual(http.request("DELETE", location)[0], 200)
+            status, text, headers = http.request("POST", "/whep/front", sdp)
+            self.assertEqual(status, 201, text)
+            http.request("DELETE", headers["Location"])
+            http.close()
 
 
 if __name__ == "__main__":

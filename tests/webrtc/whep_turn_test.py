@@ -196,6 +196,8 @@ class WhepThroughTurn(unittest.TestCase):
         self.assertRegex(answer, r"typ host")
         self.assertEqual(len(frames), 5)
         self.assertRegex(self.turn.log_text(), r"(?i)401|unauthori[sz]ed|wrong", "the TURN server refused the daemon")
+        # And the daemon's log says so (the operator reads that one).
+        self.assertIn("the TURN server (web.webrtc.turn_server) gave no relay candidate", self.robot.log.read_text())
 
 
 if __name__ == "__main__":
