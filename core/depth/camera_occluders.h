@@ -54,13 +54,12 @@ struct ViewOcclusionOptions {
   double cell_deg = 0.5;
   float tolerance_rel = 0.1f, tolerance_m = 0.1f;  // as ColourOptions::occlusion_tolerance_*
   DepthOptions fill;                               // the gap fill's rule, in the cameras
-  int surface_step = 2;                            // view pixels between surface samples
 };
 
 // The occlusion a measured-depth view is mapped with: each camera's filled depth
-// (CameraRangeImages, made with options.cell_deg) of the measured points (`points`, placed in the view frame by
-// T_view_points) together with the view's own measured surface, sampled every
-// `surface_step` pixels; only what is geometry is judged (MeasuredDepthView::occlusion_judged).
+// (CameraRangeImages, made with options.cell_deg) of the measured points (`points`, placed in
+// the view frame by T_view_points); only what is geometry is judged
+// (MeasuredDepthView::occlusion_judged).
 Occlusion view_occlusion(const CameraRangeImages& cameras, const MeasuredDepthView& view,
                          const std::vector<Eigen::Vector3f>& points, const Pose& T_view_points,
                          const ViewOcclusionOptions& options = {});
