@@ -113,22 +113,30 @@ Occlusion CameraRangeImages::occluders(const std::vector<Eigen::Vector3f>& point
   return occlusion;
 }
 
+Occlusion points_occlusion(const CameraRangeImages& cameras, const std::vector<Eigen::Vector3f>& points,
+                           const std::string& frame, const Pose& T_frame_points, const ViewOcclusionOptions& options) {
+  return cameras.occluders(points, frame, T_frame_points, options.fill, options.tolerance_rel, options.tolerance_m);
+}
+
+Occlusion for_view(const Occlusion& occluders, const MeasuredDepthView& view) {
+  Occlusion occlusion = occluders;
+  occlusion.judged = view.occlusion_judged();
+  return occlusion;
+}
+
 Occlusion view_occlusion(const CameraRangeImages& cameras, const MeasuredDepthView& view,
                          const std::vector<Eigen::Vector3f>& points, const Pose& T_view_points,
                          const ViewOcclusionOptions& options) {
-  const Rig& rig = cameras.rig();
   const ViewSpec& spec = view.spec();
-  const std::string frame = spec.frame.empty() ? rig.default_frame() : spec.frame;
+  const std::string frame = spec.frame.empty() ? cameras.rig().default_frame() : spec.frame;
   // The measured points alone: the view's surface between them is its own gap fill, and
   // each camera fills its range image by the same rule in its own geometry. (The view's
   // filled surface was added here once: where it bridged an object's top and the floor in a
   // bird's-eye view it stood as a wall in the cameras' way and blackened floor they see:
   // golden bird's-eye on one VLP-16 rotation 29.9 -> 31.0 dB without it, on depth images
-  // 26.2 -> 27.8 dB, the unseen pixels painted within 1 %.)
-  Occlusion occlusion = cameras.occluders(points, frame, spec.T_frame_view() * T_view_points, options.fill,
-                                          options.tolerance_rel, options.tolerance_m);
-  occlusion.judged = view.occlusion_judged();
-  return occlusion;
+  // 26.2 -> 27.8 dB, the unseen pixels painted within 1 %. Without it the occluders are the
+  // same for every view of the points, and the daemon makes them once per geometry.)
+  return for_view(points_occlusion(cameras, points, frame, spec.T_frame_view() * T_view_points, options), view);
 }
 
 }  // namespace omniview

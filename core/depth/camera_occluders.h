@@ -64,4 +64,13 @@ Occlusion view_occlusion(const CameraRangeImages& cameras, const MeasuredDepthVi
                          const std::vector<Eigen::Vector3f>& points, const Pose& T_view_points,
                          const ViewOcclusionOptions& options = {});
 
+// The same in two steps, for several views of one set of points: the cameras' occluders
+// depend on the points alone (in `frame`, a frame of the rig, moved by T_frame_points), so
+// they are made once (points_occlusion) and each view adds the pixels it judges
+// (for_view: a copy with the view's mask).
+Occlusion points_occlusion(const CameraRangeImages& cameras, const std::vector<Eigen::Vector3f>& points,
+                           const std::string& frame, const Pose& T_frame_points,
+                           const ViewOcclusionOptions& options = {});
+Occlusion for_view(const Occlusion& occluders, const MeasuredDepthView& view);
+
 }  // namespace omniview

@@ -107,9 +107,10 @@ void Pipeline::apply_measured_depth(ViewState& state, const GeometrySnapshot& ge
   const Pose T_view_points = state.T_robot_view.inverse() * *T_robot_points;
   auto depth = std::make_shared<ViewDepth>(*state.depth);
   const auto view = depth->surface->update(*geometry.points, T_view_points);
-  const ViewOcclusionOptions options;
-  const auto cameras = this->geometry(state.spec.source).range_images(state.rig, options.cell_deg);
-  const Occlusion occlusion = view_occlusion(*cameras, *view, *geometry.points, T_view_points, options);
+  // The cameras' occluders are the geometry's, shared by the source's depth views; the
+  // pixels judged are this view's.
+  const auto occluders = this->geometry(state.spec.source).occluders(geometry, state.rig, ViewOcclusionOptions{});
+  const Occlusion occlusion = for_view(*occluders, *view);
   state.map = std::make_shared<const FusionMap>(build_map(rig, *view, MapPrecision::kAdaptive, Sampling::kFootprint, &occlusion));
   state.view = view;
   state.coverage = state.map->coverage();

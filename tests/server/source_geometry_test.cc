@@ -78,6 +78,29 @@ TEST_F(Geometry, AMovingRobotsCloudsAreAccumulatedWhereTheWorldIs) {
   EXPECT_GT(worst_off_the_wall(*still.latest()->points, T_world_body1), 0.4);
 }
 
+TEST_F(Geometry, TheCamerasOccludersAreMadeOncePerGeometryAndShared) {
+  // Every depth view of the source judges occlusion against the same occluders: made at the
+  // first view's update, handed to the next as they are, made again for new geometry only.
+  const auto shared_rig = std::make_shared<const Rig>(rig);
+  SourceGeometry geometry;
+  const Pose here = make_pose(Vec3(0, 0, 0.5), 0, 0, 0);
+  geometry.add(scan(here, kT0, body), rig, nullptr, arrival);
+  const ViewOcclusionOptions options;
+  const auto first = geometry.occluders(*geometry.latest(), shared_rig, options);
+  ASSERT_EQ(first->cameras.size(), rig.cameras().size());
+  EXPECT_EQ(geometry.occluders(*geometry.latest(), shared_rig, options), first);
+  // The same as made for the points directly.
+  const Occlusion direct = points_occlusion(*geometry.range_images(shared_rig, options.cell_deg),
+                                            *geometry.latest()->points, body, Pose::Identity(), options);
+  for (size_t c = 0; c < direct.cameras.size(); ++c) EXPECT_EQ(direct.cameras[c].depth, first->cameras[c].depth);
+  // The wall straight ahead hides what lies behind it from the front cameras.
+  bool covers = false;
+  for (float d : first->cameras[0].depth) covers = covers || (d > 0 && d < 5);
+  EXPECT_TRUE(covers);
+  geometry.add(scan(here, kT0 + 100ms, body), rig, nullptr, arrival);
+  EXPECT_NE(geometry.occluders(*geometry.latest(), shared_rig, options), first);
+}
+
 TEST_F(Geometry, CloudsLeaveByCaptureTimeBehindTheNewest) {
   GeometryOptions options;
   options.keep = 500ms;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace omniview {
 
@@ -118,6 +119,25 @@ std::shared_ptr<const CameraRangeImages> SourceGeometry::range_images(const std:
     range_rig_ = rig;
   }
   return range_images_;
+}
+
+std::shared_ptr<const Occlusion> SourceGeometry::occluders(const GeometrySnapshot& snapshot,
+                                                           const std::shared_ptr<const Rig>& rig,
+                                                           const ViewOcclusionOptions& options) {
+  const auto cameras = range_images(rig, options.cell_deg);
+  std::lock_guard lock(occluders_mutex_);
+  if (!occluders_ || occluders_version_ != snapshot.version || occluders_rig_ != rig) {
+    const auto T_robot_points = rig->frames().try_lookup(rig->default_frame(), snapshot.frame);
+    if (!T_robot_points) {
+      throw std::invalid_argument("the geometry's frame '" + snapshot.frame + "' is not connected to the rig's '" +
+                                  rig->default_frame() + "'");
+    }
+    occluders_ = std::make_shared<const Occlusion>(
+        points_occlusion(*cameras, *snapshot.points, rig->default_frame(), *T_robot_points, options));
+    occluders_version_ = snapshot.version;
+    occluders_rig_ = rig;
+  }
+  return occluders_;
 }
 
 }  // namespace omniview

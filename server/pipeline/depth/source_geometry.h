@@ -70,6 +70,12 @@ class SourceGeometry {
   // Each camera's range-image layout for occlusion (core/depth/camera_occluders.h), made
   // once per rig and shared by the source's depth views; what it returns keeps `rig` alive.
   std::shared_ptr<const CameraRangeImages> range_images(const std::shared_ptr<const Rig>& rig, double cell_deg);
+  // The cameras' occluders of `snapshot`'s points (core/depth/camera_occluders.h's
+  // points_occlusion, in the rig's default frame): the same for every depth view of the
+  // source, so made once per geometry version and rig and shared (two watched depth views
+  // made them twice).
+  std::shared_ptr<const Occlusion> occluders(const GeometrySnapshot& snapshot, const std::shared_ptr<const Rig>& rig,
+                                             const ViewOcclusionOptions& options);
 
  private:
   struct Cloud {
@@ -89,6 +95,10 @@ class SourceGeometry {
   uint64_t version_ = 0;
   std::shared_ptr<const Rig> range_rig_;
   std::shared_ptr<const CameraRangeImages> range_images_;
+  std::mutex occluders_mutex_;  // apart from mutex_: making them takes milliseconds
+  uint64_t occluders_version_ = 0;
+  std::shared_ptr<const Rig> occluders_rig_;
+  std::shared_ptr<const Occlusion> occluders_;
 };
 
 }  // namespace omniview
