@@ -17,6 +17,7 @@ import unittest
 from pathlib import Path
 
 from aiortc import RTCPeerConnection, RTCSessionDescription
+from aiortc.mediastreams import MediaStreamError
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "web"))
 import harness  # noqa: E402
@@ -270,9 +271,12 @@ class WhepTest(unittest.TestCase):
             @pc.on("track")
             def on_track(track):
                 async def read():
-                    while True:
-                        await track.recv()
-                        arrivals.append(time.monotonic())
+                    try:
+                        while True:
+                            await track.recv()
+                            arrivals.append(time.monotonic())
+                    except MediaStreamError:  # the peer connection closed: the test is over
+                        pass
                 asyncio.ensure_future(read())
 
             status, answer, headers = self.http.request("POST", "/whep/front", offer)
