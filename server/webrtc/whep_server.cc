@@ -153,9 +153,14 @@ HttpReply WhepServer::create(const std::string& view, const std::string& content
   settings.turn_server = config_.turn_server;
   settings.min_udp_port = config_.min_udp_port;
   settings.max_udp_port = config_.max_udp_port;
+  // The session's id comes first: the viewer's name in the status carries it, so a status
+  // line and the log's "session 1a2b3c4d" are told together (the POST's TCP port, which
+  // the name carried, meant nothing once the POST's connection closed).
+  const std::string id = new_session_id();
   std::shared_ptr<WhepSession> session;
   try {
-    session = std::make_shared<WhepSession>(pipeline_, view, "webrtc:" + peer, offer, h264, settings);
+    session = std::make_shared<WhepSession>(pipeline_, view, "webrtc:" + client + "#" + id.substr(0, 8), offer, h264,
+                                            settings);
   } catch (...) {
     release();
     // webrtcbin's refusals of the offer come as std::invalid_argument: 400 like the parser's.
@@ -167,7 +172,6 @@ HttpReply WhepServer::create(const std::string& view, const std::string& content
     if (failure.kind == ErrorKind::kUnavailable) return refuse(peer, 503, failure.message);
     return text(http_status(failure.kind), failure.message);
   }
-  const std::string id = new_session_id();
   HttpReply a;
   a.status = 201;
   a.content_type = "application/sdp";

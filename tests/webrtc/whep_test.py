@@ -172,6 +172,8 @@ class WhepTest(unittest.TestCase):
             line = re.search(r"^\s*webrtc:\S+\s+front\s+.*?(\d+)\s+(\d+)\s*$", self.robot.status(), re.M)
             self.assertIsNotNone(line, self.robot.status())
             self.assertLessEqual(int(line.group(2)), 2, line.group(0))
+            # Named by its session, as the log names it.
+            self.assertIn("#" + headers["Location"].rsplit("/", 1)[1][:8], line.group(0))
             status, text, _ = self.http.request("DELETE", headers["Location"])
             self.assertEqual(status, 200, text)
             status, text, _ = self.http.request("DELETE", headers["Location"])
