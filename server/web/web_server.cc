@@ -291,13 +291,13 @@ bool WebServer::route(const Request& request, const std::string& peer, std::func
       Caller who;
       const grpc::Status s = auth_.check_header(authorization, needed.value_or(Role::kOperator), &who);
       if (!s.ok()) {
-        log_refusal(peer, "WHEP " + std::string(posting ? "POST" : "DELETE") + ": " + s.error_message());
         // In HTTP's words: the authenticator's speak of gRPC metadata.
         const bool no_token = s.error_code() == grpc::StatusCode::UNAUTHENTICATED && header == request.end();
         const std::string why = no_token ? "a token is needed: send 'Authorization: Bearer TOKEN'"
                                 : s.error_code() == grpc::StatusCode::UNAUTHENTICATED && s.error_message() != "unknown token"
                                     ? "malformed Authorization header: send 'Authorization: Bearer TOKEN'"
                                     : s.error_message();
+        log_refusal(peer, "WHEP " + std::string(posting ? "POST" : "DELETE") + ": " + why);
         return reply(http_status(kind_of(s.error_code())), why, {{"WWW-Authenticate", "Bearer"}});
       }
       const std::string client = peer.substr(0, peer.rfind(':'));

@@ -81,6 +81,9 @@ void check_video_line(const std::string& sdp) {
 
 H264Offer read_h264_offer(const std::string& sdp) {
   if (sdp.empty()) throw std::invalid_argument("the request has no SDP offer in its body");
+  // GStreamer's parser reads a C string (a NUL ends it early, and one at the start made it
+  // write a CRITICAL into the daemon's log for any client that sent one).
+  if (sdp.find('\0') != std::string::npos) throw std::invalid_argument("the body is not an SDP offer (a NUL byte in it)");
   GstSDPMessage* raw = nullptr;
   if (gst_sdp_message_new_from_text(sdp.c_str(), &raw) != GST_SDP_OK || raw == nullptr) {
     throw std::invalid_argument("the body is not an SDP offer");
@@ -123,10 +126,15 @@ H264Offer read_h264_offer(const std::string& sdp) {
     const bool sendable = pt >= 96;
     const std::string rtpmap = payload_attribute(video, "rtpmap", pt);
     const std::string codec = rtpmap.substr(0, rtpmap.find('/'));
-    if (!codec.empty() && codec != "rtx" && codec != "red" && codec != "ulpfec") offered.insert(codec);
-    if (rtpmap != "H264/90000" || !sendable) continue;
     const std::string fmtp = payload_attribute(video, "fmtp", pt);
-    if (fmtp_value(fmtp, "packetization-mode") != "1") continue;
+    const bool mode_1 = fmtp_value(fmtp, "packetization-mode") == "1";
+    if (!codec.empty() && codec != "rtx" && codec != "red" && codec != "ulpfec") {
+      // Named as what it lacks where that is why it is not taken.
+      offered.insert(codec == "H264" && !mode_1 ? "H264 without packetization-mode=1"
+                     : codec == "H264" && !sendable ? "H264 in payload type " + std::to_string(pt)
+                                                    : codec);
+    }
+    if (rtpmap != "H264/90000" || !sendable || !mode_1) continue;
     std::string profile = fmtp_value(fmtp, "profile-level-id");
     // Six hex digits (RFC 6184), or taken as not given: it goes into the media's caps.
     if (profile.size() != 6 || profile.find_first_not_of("0123456789abcdefABCDEF") != std::string::npos) profile.clear();

@@ -115,15 +115,15 @@ HttpReply WhepServer::create(const std::string& view, const std::string& content
   if (!unavailable_.empty()) return text(503, "WebRTC is not available on this daemon: " + unavailable_);
   const std::string type = content_type.substr(0, content_type.find(';'));
   if (type != "application/sdp") {
-    return text(415, "a WHEP offer is sent as 'Content-Type: application/sdp', not '" + content_type + "'");
+    return refuse(peer, 415, "a WHEP offer is sent as 'Content-Type: application/sdp', not '" + content_type + "'");
   }
   H264Offer h264;
   try {
     h264 = read_h264_offer(offer);
   } catch (const CodecNotOffered& e) {
-    return text(406, e.what());
+    return refuse(peer, 406, e.what());
   } catch (const std::invalid_argument& e) {
-    return text(400, e.what());
+    return refuse(peer, 400, e.what());
   }
   const int max_total = std::min(config_.max_sessions, limits_.max_streams);
   {
@@ -165,12 +165,11 @@ HttpReply WhepServer::create(const std::string& view, const std::string& content
     release();
     // webrtcbin's refusals of the offer come as std::invalid_argument: 400 like the parser's.
     const Failure failure = current_failure();
-    if (failure.kind == ErrorKind::kInternal) {
+    if (failure.kind == ErrorKind::kInternal) {  // ours: every one logged
       std::cerr << "omniviewd: webrtc: " << peer << ": " << failure.message << std::endl;
+      return text(http_status(failure.kind), failure.message);
     }
-    // The daemon's side failed (no ICE candidate, ...): the operator reads why in the log too.
-    if (failure.kind == ErrorKind::kUnavailable) return refuse(peer, 503, failure.message);
-    return text(http_status(failure.kind), failure.message);
+    return refuse(peer, http_status(failure.kind), failure.message);
   }
   HttpReply a;
   a.status = 201;
@@ -226,7 +225,7 @@ HttpReply WhepServer::remove(const std::string& view, const std::string& id, con
       return text(404, no_session(view, id));
     }
     if (who.role != Role::kOperator && who.label != it->second.owner) {
-      return text(403, "this session was made with another token: that token or an operator's ends it");
+      return refuse(peer, 403, "this session was made with another token: that token or an operator's ends it");
     }
     ending = std::move(it->second.session);
     if (--reserved_[it->second.client] == 0) reserved_.erase(it->second.client);

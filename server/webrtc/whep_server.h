@@ -68,8 +68,9 @@ class WhepServer {
     std::shared_ptr<WhepSession> session;  // shared: the sweeper checks it outside the lock
   };
   void sweep();  // the sweeper thread
-  // A refusal on the daemon's side (a limit, no ICE candidate): answered, and logged at
-  // most a few times in ten seconds per host (a flood of offers writes a few lines).
+  // A refusal (a bad offer, a limit, no ICE candidate, another token's session): answered,
+  // and logged at most a few times in ten seconds per host (a flood writes a few lines), so
+  // an operator whose player "gets nothing" finds why in the log.
   HttpReply refuse(const std::string& peer, int status, std::string why);
 
   const WebRtcConfig config_;

@@ -64,8 +64,10 @@ TEST(WhepOffer, BadOffersSayWhatIsWrong) {
   EXPECT_NE(message(head + "m=video 9 RTP/AVP 96\r\n").find("SAVPF"), std::string::npos);
   EXPECT_EQ(message(head + "m=video 9 UDP/TLS/RTP/SAVPF 96 97 98\r\na=rtpmap:96 VP8/90000\r\na=rtpmap:97 "
                            "rtx/90000\r\na=rtpmap:98 H264/90000\r\na=fmtp:98 packetization-mode=0\r\n"),
-            "406 the offer has no H.264 with packetization-mode=1 and a dynamic payload type (offered: H264, VP8); "
+            "406 the offer has no H.264 with packetization-mode=1 and a dynamic payload type (offered: H264 without "
+            "packetization-mode=1, VP8); "
             "this daemon sends its views as H.264 only");
+  EXPECT_EQ(message(std::string("\0v=0\r\n", 7)), "the body is not an SDP offer (a NUL byte in it)");
   // GStreamer's parser reads "foo" as port 0: said as malformed, not as rejected.
   EXPECT_EQ(message(head + "m=video foo bar\r\n").substr(0, 44), "the offer's video m-line is malformed ('m=vi");
   EXPECT_NE(message(head + "m=video 70000 UDP/TLS/RTP/SAVPF 96\r\n").find("malformed"), std::string::npos);

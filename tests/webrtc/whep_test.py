@@ -249,6 +249,8 @@ class WhepTest(unittest.TestCase):
             status, text, _ = self.http.request(method, path, body, content_type=content_type or "application/sdp")
             self.assertEqual(status, expected, f"{method} {path}: {text}")
             self.assertIn(says, text, f"{method} {path}")
+        # The log says why too (a few lines per host every 10 s), for whoever's player "gets nothing".
+        self.assertRegex(self.robot.log.read_text(), r"webrtc: refused \S+: the body is not an SDP offer")
         status, _, headers = self.http.request("OPTIONS", "/whep/front")
         self.assertEqual(status, 204)
         self.assertEqual(headers.get("Accept-Post"), "application/sdp")
