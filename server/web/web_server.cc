@@ -62,6 +62,15 @@ WebServer::WebServer(const DaemonConfig& config, Pipeline& pipeline, const Authe
                }} {
   if (config_.webrtc.enabled) {
     whep_ = std::make_unique<webrtc::WhepServer>(config_.webrtc, limits_, pipeline);
+    const auto& rtc = config_.webrtc;
+    const int ports = rtc.min_udp_port ? rtc.max_udp_port - rtc.min_udp_port + 1 : 0;
+    if (ports && ports < std::min(rtc.max_sessions, limits_.max_streams)) {
+      // Each viewer holds a port of the range: viewers past it are refused (503).
+      std::cerr << "omniviewd: web: warning: web.webrtc.udp_ports holds " << ports << " ports, fewer than the "
+                << std::min(rtc.max_sessions, limits_.max_streams)
+                << " WebRTC viewers web.webrtc.max_sessions allows: viewers past " << ports << " will be refused"
+                << std::endl;
+    }
     if (!whep_->unavailable().empty()) {
       std::cerr << "omniviewd: web: WebRTC (WHEP) is off: " << whep_->unavailable() << std::endl;
     }

@@ -312,7 +312,7 @@ std::string WhepSession::no_candidate_reason() const {
   if (settings_ports_.first > 0) {
     return "no ICE candidate for the media: no free UDP port in web.webrtc.udp_ports (" +
            std::to_string(settings_ports_.first) + "-" + std::to_string(settings_ports_.second) +
-           "; each viewer holds one per network interface): widen the range or end a session";
+           "; each viewer holds one): widen the range or end a session";
   }
   return "no ICE candidate for the media: libnice found no UDP port to bind";
 }

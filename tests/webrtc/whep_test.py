@@ -415,6 +415,7 @@ class WhepWithFewPorts(unittest.TestCase):
             self.assertIn(f"web.webrtc.udp_ports ({low}-{low + 1}", refusal[1])
             self.assertIn("refused", robot.log.read_text())
             self.assertIn("no free UDP port", robot.log.read_text())
+            self.assertIn("web.webrtc.udp_ports holds 2 ports, fewer than", robot.log.read_text())
             for location in made:  # their ports come back: a viewer is served again
                 self.assertEqual(http.request("DELETE", location)[0], 200)
             status, text, headers = http.request("POST", "/whep/front", sdp)
