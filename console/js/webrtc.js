@@ -90,12 +90,16 @@ export class WhepStream {
     this.location = r.headers.get('Location');
     this.clock = captureClock(r.headers.get('Omniview-Capture-Clock'));
     await pc.setRemoteDescription({ type: 'answer', sdp: text });
+    // One chain of frame callbacks per <video>: a pending callback outlives the stream it
+    // was asked on, so a chain armed at every reconnect counted each picture once more per
+    // reconnect (the status line read 30 fps on a 15 Hz view after one link drop).
+    if (this.frameCallback !== undefined) this.video.cancelVideoFrameCallback(this.frameCallback);
     this.requestFrame();
   }
 
   requestFrame() {
     const video = this.video;
-    video.requestVideoFrameCallback((now, meta) => {
+    this.frameCallback = video.requestVideoFrameCallback((now, meta) => {
       if (this.stopped) return;
       this.lastFrameAt = performance.now();
       this.everPlayed = true;

@@ -126,9 +126,15 @@ class ConsoleWebrtcTest(ConsoleOnWebrtc):
         wait_until(lambda: "birdseye" not in self.robot.status().split("clients:")[1], seconds(5),
                    "the session ended (not after the 10 s of silence that frees a vanished viewer)")
 
+    def pictures_per_second(self, driver, over=3.0):
+        first, start = pane(driver)["frames"], time.monotonic()
+        time.sleep(over)
+        return (pane(driver)["frames"] - first) / (time.monotonic() - start)
+
     def test_zz_the_picture_resumes_after_the_link_drops_for_5_s(self):
         driver = self.open(OPERATOR_TOKEN)
         self.wait_webrtc(driver, frames=10)
+        rate = self.pictures_per_second(driver)
         # The robot's end of the link goes silent for 5 s (the daemon stopped: nothing
         # reaches the browser, UDP or TCP), then comes back.
         self.robot.daemon.send_signal(signal.SIGSTOP)
@@ -141,6 +147,11 @@ class ConsoleWebrtcTest(ConsoleOnWebrtc):
             pane(driver)), seconds(40), "the picture resuming over WebRTC")
         print(f"after a 5 s drop: {resumed}", file=sys.stderr)
         wait_until(lambda: "front WebRTC" in status_line(driver), seconds(5), "the status line on WebRTC again")
+        # Each picture counted once after the reconnect too (the page once armed a second
+        # chain of frame callbacks per reconnect: twice the view's rate after one drop).
+        self.assertGreaterEqual(pane(driver)["restarts"], 1, "the console did not reconnect: no test of it")
+        after = self.pictures_per_second(driver)
+        self.assertLess(after, 1.4 * rate + 1, f"{after:.1f} pictures/s after the drop, {rate:.1f} before")
 
 
 class ConsoleWebrtcWithoutTokens(ConsoleOnWebrtc):
