@@ -2,9 +2,12 @@
 
 #include <gst/sdp/sdp.h>
 
+#include <algorithm>
+#include <cctype>
 #include <memory>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 namespace omniview::webrtc {
 namespace {
@@ -159,6 +162,29 @@ H264Offer read_h264_offer(const std::string& sdp) {
   }
   if (const char* mid = gst_sdp_media_get_attribute_val(video, "mid")) best.mid = mid;
   return best;
+}
+
+std::string without_mdns_candidates(const std::string& sdp) {
+  std::string out;
+  out.reserve(sdp.size());
+  size_t start = 0;
+  while (start < sdp.size()) {
+    size_t end = sdp.find('\n', start);
+    end = end == std::string::npos ? sdp.size() : end + 1;
+    const std::string_view line(sdp.data() + start, end - start);
+    bool mdns = false;
+    if (line.rfind("a=candidate:", 0) == 0) {
+      // foundation component transport priority ADDRESS port typ ...
+      std::istringstream fields{std::string(line.substr(12))};
+      std::string field, address;
+      for (int i = 0; i < 5 && fields >> field; ++i) address = field;
+      std::transform(address.begin(), address.end(), address.begin(), [](unsigned char c) { return std::tolower(c); });
+      mdns = address.size() > 6 && address.compare(address.size() - 6, 6, ".local") == 0;
+    }
+    if (!mdns) out.append(line);
+    start = end;
+  }
+  return out;
 }
 
 }  // namespace omniview::webrtc

@@ -28,4 +28,12 @@ class CodecNotOffered : public std::invalid_argument {
 // the first (browsers' decoders take High under any H.264 profile in practice).
 H264Offer read_h264_offer(const std::string& sdp);
 
+// `sdp` without its mDNS host candidates (a=candidate lines whose address is a name ending
+// in ".local"), as browsers send by default to hide their addresses. The daemon asks no mDNS
+// responder, and webrtcbin's ICE agent that was handed one was never freed (a thread and a
+// UDP port per address for good after every browser session). ICE connects without them:
+// the viewer's checks reaching the daemon's candidates give the daemon its address
+// (a peer-reflexive candidate).
+std::string without_mdns_candidates(const std::string& sdp);
+
 }  // namespace omniview::webrtc

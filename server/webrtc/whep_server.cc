@@ -159,8 +159,8 @@ HttpReply WhepServer::create(const std::string& view, const std::string& content
   const std::string id = new_session_id();
   std::shared_ptr<WhepSession> session;
   try {
-    session = std::make_shared<WhepSession>(pipeline_, view, "webrtc:" + client + "#" + id.substr(0, 8), offer, h264,
-                                            settings);
+    session = std::make_shared<WhepSession>(pipeline_, view, "webrtc:" + client + "#" + id.substr(0, 8),
+                                            without_mdns_candidates(offer), h264, settings);
   } catch (...) {
     release();
     // webrtcbin's refusals of the offer come as std::invalid_argument: 400 like the parser's.

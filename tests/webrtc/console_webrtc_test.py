@@ -2,6 +2,7 @@
 spot-mock: WebRTC first, its picture and latency in the status line, tokens, the picture
 resuming after the link drops, and the WebSocket where WebRTC cannot serve (the status
 line says why)."""
+import os
 import signal
 import sys
 import time
@@ -33,6 +34,17 @@ return [lit, s];
 def pane(driver, view="front"):
     return driver.execute_script(PANE + "return p && {encoding: p.encoding, frames: p.frames, age: p.rtcAgeMs, "
                                  "why: p.rtcWhy, restarts: p.rtc ? p.rtc.restarts : null};", view)
+
+
+def ice_threads(pid):
+    """The daemon's threads that are ICE agents' (libnice's, named by webrtcbin)."""
+    count = 0
+    for t in os.listdir(f"/proc/{pid}/task"):
+        try:
+            count += Path(f"/proc/{pid}/task/{t}/comm").read_text().strip().startswith("webrtc:ice")
+        except OSError:
+            pass
+    return count
 
 
 def status_line(driver):
@@ -125,6 +137,10 @@ class ConsoleWebrtcTest(ConsoleOnWebrtc):
         driver.get("about:blank")  # the page goes: its DELETE, or the viewer's RTCP BYE, ends the session
         wait_until(lambda: "birdseye" not in self.robot.status().split("clients:")[1], seconds(5),
                    "the session ended (not after the 10 s of silence that frees a vanished viewer)")
+        # And its ICE agent with it: Chromium's offer names its host by mDNS (<uuid>.local),
+        # and an agent handed such a candidate once stayed for good (a thread and a UDP port
+        # per address, every page load). GLib's pool idles a thread up to 15 s.
+        wait_until(lambda: ice_threads(self.robot.daemon.pid) == 0, seconds(25), "the session's ICE agent gone")
 
     def pictures_per_second(self, driver, over=3.0):
         first, start = pane(driver)["frames"], time.monotonic()

@@ -43,6 +43,23 @@ TEST(WhepOffer, AProfileThatIsNotSixHexDigitsIsTakenAsNotGiven) {
   EXPECT_EQ(offer.profile_level_id, "");
 }
 
+TEST(WhepOffer, MdnsCandidatesAreLeftOutAndTheRestKept) {
+  const std::string offer =
+      "v=0\r\nm=video 9 UDP/TLS/RTP/SAVPF 96\r\n"
+      "a=candidate:1 1 udp 2122260223 0b2c1d3e-4f50-4a6b-8c7d-9e0f1a2b3c4d.local 54321 typ host generation 0\r\n"
+      "a=candidate:2 1 udp 2122260223 192.168.1.20 54322 typ host\r\n"
+      "a=candidate:3 1 UDP 1686052607 ABC.LOCAL 54323 typ srflx raddr 0.0.0.0 rport 0\r\n"
+      "a=candidate:4 1 udp 1 local 54324 typ host\n"  // a host named "local": kept
+      "a=mid:0\r\n";
+  EXPECT_EQ(without_mdns_candidates(offer),
+            "v=0\r\nm=video 9 UDP/TLS/RTP/SAVPF 96\r\n"
+            "a=candidate:2 1 udp 2122260223 192.168.1.20 54322 typ host\r\n"
+            "a=candidate:4 1 udp 1 local 54324 typ host\n"
+            "a=mid:0\r\n");
+  EXPECT_EQ(without_mdns_candidates(""), "");
+  EXPECT_EQ(without_mdns_candidates("a=candidate:1 1 udp"), "a=candidate:1 1 udp");  // cut short: kept
+}
+
 TEST(WhepOffer, BadOffersSayWhatIsWrong) {
   const std::string head = "v=0\r\no=- 1 1 IN IP4 127.0.0.1\r\ns=-\r\nt=0 0\r\n";
   const auto message = [](const std::string& sdp) -> std::string {

@@ -308,6 +308,25 @@ class WhepTest(unittest.TestCase):
 
         asyncio.run(go())
 
+    def test_an_offer_with_mdns_candidates_leaves_nothing_behind(self):
+        # Browsers hide their addresses behind mDNS names (<uuid>.local host candidates);
+        # webrtcbin's ICE agent that was handed one never went away: a thread and a UDP port
+        # per address kept after the session ended, every console page load.
+        async def offer():
+            pc, sdp = await make_offer()
+            await pc.close()
+            return sdp
+
+        sdp = asyncio.run(offer())
+        mdns = "a=candidate:1 1 udp 2122260223 0b2c1d3e-4f50-4a6b-8c7d-9e0f1a2b3c4d.local 54321 typ host\r\n"
+        sdp = re.sub(r"(a=mid:[^\r\n]*\r?\n)", lambda m: m.group(1) + mdns, sdp, count=1)
+        self.assertIn(".local", sdp)
+        for _ in range(3):
+            status, text, headers = self.http.request("POST", "/whep/front", sdp)
+            self.assertEqual(status, 201, text)
+            self.assertEqual(self.http.request("DELETE", headers["Location"])[0], 200)
+        self.wait_for("the sessions' threads gone", lambda: self.media_threads() == 0, THREADS_GONE)
+
     def test_a_flood_of_offers_is_capped_and_viewers_that_never_connect_are_freed(self):
         async def offer_of_a_vanished_viewer():
             pc, offer = await make_offer()
