@@ -41,6 +41,19 @@ WebRtcConfig parse_webrtc(const YamlReader& r, const YAML::Node& n) {
   };
   webrtc.stun_server = url("stun_server", {"stun://"});
   webrtc.turn_server = url("turn_server", {"turn://", "turns://"});
+  if (!webrtc.turn_server.empty()) {
+    // A TURN server allocates relays only for a user it knows (RFC 5766's long-term
+    // credentials): without them every allocation fails, and only the log would say so.
+    const std::string rest = webrtc.turn_server.substr(webrtc.turn_server.find("://") + 3);
+    const auto at = rest.rfind('@');
+    const std::string credentials = at == std::string::npos ? "" : rest.substr(0, at);
+    const auto colon = credentials.find(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == credentials.size() || at + 1 == rest.size()) {
+      r.fail(n["turn_server"], "web.webrtc.turn_server",
+             "expected turn://USER:PASSWORD@HOST:PORT (a TURN server relays only for a user it knows), got '" +
+                 webrtc.turn_server.substr(0, webrtc.turn_server.find("://") + 3) + (at == std::string::npos ? rest : "...@" + rest.substr(at + 1)) + "'");
+    }
+  }
   if (const YAML::Node ports = n["udp_ports"]) {
     const std::string text = r.text(ports, "web.webrtc.udp_ports");
     int lo = 0, hi = 0;

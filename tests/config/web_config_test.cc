@@ -55,6 +55,22 @@ TEST(WebConfig, ErrorsNameLineAndKey) {
   expect_error("web:\n  enabled: maybe\n", {"d.yaml:4", "web.enabled"});
 }
 
+TEST(WebConfig, ATurnServerNeedsItsUserAndPassword) {
+  EXPECT_EQ(parse("web:\n  webrtc: {turn_server: 'turn://u:p@relay:3478'}\n").web.webrtc.turn_server,
+            "turn://u:p@relay:3478");
+  for (const char* url : {"turn://relay:3478", "turn://u@relay:3478", "turns://:p@relay:3478", "turn://u:@relay"}) {
+    expect_error(std::string("web:\n  webrtc:\n    turn_server: '") + url + "'\n",
+                 {"d.yaml:5", "web.webrtc.turn_server", "USER:PASSWORD"});
+  }
+  // The error never repeats a password.
+  try {
+    parse("web:\n  webrtc:\n    turn_server: 'turn://u:secret@'\n");
+    ADD_FAILURE() << "accepted a TURN server without a host";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()).find("secret"), std::string::npos) << e.what();
+  }
+}
+
 TEST(WebConfig, ExposureRuleAsForTheGrpcPort) {
   // Reachable from other machines without TLS and tokens: refused, the web line blamed.
   expect_error("web:\n  listen: 0.0.0.0:8765\n", {"d.yaml:4", "web.listen", "reachable from other machines"});
