@@ -26,11 +26,12 @@ const std::string kStreamHelp =
        omniview stream VIEW --encoding h264 -o - | ffplay -
 
 Saves N frames of a view as DIR/frame_000001.jpg, ... (the daemon's encoded bytes) and
-DIR/frames.csv: file, sequence, capture time (UTC), latency (ms), size, view revision.
-With --encoding h264 the frames go into one file, DIR/stream.h264 (a raw H.264 elementary
-stream, starting at a key frame; `ffplay DIR/stream.h264`, or `ffmpeg -i DIR/stream.h264
--c copy out.mp4`), and frames.csv also gives each frame's byte offset, size and whether it
-is a key frame. Ctrl-C stops early and keeps what was written.
+DIR/frames.csv: file, sequence, capture time (UTC), latency (ms), size, view revision,
+and last the share of the frame's pixels that stood on measured depth (0 for a view with
+depth: fixed, or before any geometry came). With --encoding h264 the frames go into one
+file, DIR/stream.h264 (a raw H.264 elementary stream, starting at a key frame; `ffplay
+DIR/stream.h264`, or `ffmpeg -i DIR/stream.h264 -c copy out.mp4`), and frames.csv also
+gives each frame's byte offset, size and whether it is a key frame (before that last column). Ctrl-C stops early and keeps what was written.
 
 With -o - the frames go to stdout one after another, nothing between them: JPEG frames
 make an MJPEG stream that `ffplay -f mjpeg -`, `mpv -` or `ffmpeg -f mjpeg -i -` read;
@@ -154,7 +155,7 @@ int stream_command(const std::vector<std::string>& argv) {
       csv.open(folder / "frames.csv", std::ios::trunc);
       if (!csv) throw std::runtime_error("cannot write '" + (folder / "frames.csv").string() + "'");
       csv << "file,sequence,capture_time,capture_time_s,latency_ms,width,height,channels,revision"
-          << (video ? ",offset,bytes,key_frame" : "") << "\n";
+          << (video ? ",offset,bytes,key_frame" : "") << ",measured_depth\n";
       if (video) {
         stream_file.open(folder / stream_name, std::ios::binary | std::ios::trunc);
         if (!stream_file) throw std::runtime_error("cannot write '" + (folder / stream_name).string() + "'");
@@ -173,7 +174,7 @@ int stream_command(const std::vector<std::string>& argv) {
         << fixed(to_seconds(frame.capture_time()), 6) << "," << fixed(frame.latency_ms(), 3) << "," << frame.width()
         << "," << frame.height() << "," << frame.channels() << "," << frame.camera().revision();
     if (video) csv << "," << offset << "," << frame.data().size() << "," << (frame.key_frame() ? 1 : 0);
-    csv << "\n" << std::flush;  // a stream cut short keeps a complete index
+    csv << "," << fixed(frame.measured_depth(), 3) << "\n" << std::flush;  // a stream cut short keeps a complete index
     offset += frame.data().size();
     ++written;
   }

@@ -159,7 +159,8 @@ const char* settable_keys_help() {
   fov_deg (fov), fusion (blend, the default|nearest), feather_px, gain_compensation
   (true, the default|false: even out the cameras' exposures in a blend), overlay (true|false: draw the robot
   into a perspective or birdseye view), overlay_opacity (0..1), depth (fixed, the
-  default|measured: the surface follows the source's lidar clouds)
+  default|measured: the surface follows what the source measures: its lidar clouds, Spot's
+  depth images)
 )";
 }
 

@@ -136,7 +136,7 @@ DepthReport Pipeline::describe_depth(const ViewState& state, size_t subscribers)
   } else if (!g.message().empty()) {
     report.message = g.message();
   } else if (subscribers == 0) {
-    report.message = "not watched: the surface follows the lidar only while someone watches the view";
+    report.message = "not watched: the surface follows the lidar and depth cameras only while someone watches the view";
   } else if (!any) {
     report.message = "waiting for the source's first lidar cloud or depth image";
   }

@@ -403,7 +403,8 @@ TEST_F(H264Stream, TheClisFolderHoldsOnePlayableFile) {
     std::vector<std::string> cells;
     std::stringstream s(line);
     for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 12u) << line;
+    ASSERT_EQ(cells.size(), 13u) << line;  // ... offset, bytes, key_frame, measured_depth
+    EXPECT_EQ(cells[12], "0.000") << "a view with depth: fixed stood on no measured depth";
     const size_t offset = std::stoul(cells[9]), size = std::stoul(cells[10]);
     ASSERT_LE(offset + size, bytes.size());
     if (rows == 0) {
