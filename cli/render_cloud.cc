@@ -23,8 +23,9 @@ RenderCloud load_render_cloud(const Args& args, const Rig& rig) {
   try {
     cloud = load_cloud(out.file);
   } catch (const std::exception& e) {
-    // The readers name the file already; say which option it came from too.
-    throw std::runtime_error(std::string("--cloud: ") + e.what());
+    // The readers name the file already: said as every other --cloud error is.
+    const std::string message = e.what();
+    throw std::runtime_error(message.rfind(out.file, 0) == 0 ? "--cloud " + message : what + ": " + message);
   }
   if (cloud.empty()) throw std::runtime_error(what + ": the cloud has no points");
   if (cloud.size() > kMaxCloudPoints) {
