@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/map/worker_threads.h"
 #include "core/synthetic/spot_like_rig.h"
 #include "server/pipeline/depth/source_geometry.h"
 
@@ -79,6 +80,7 @@ TEST_F(Geometry, AMovingRobotsCloudsAreAccumulatedWhereTheWorldIs) {
 }
 
 TEST_F(Geometry, TheCamerasOccludersAreMadeOncePerGeometryAndShared) {
+  apply_worker_threads_from_env();  // OMNIVIEW_THREADS=1 (the TSan stage): no TBB hand-offs to miss
   // Every depth view of the source judges occlusion against the same occluders: made at the
   // first view's update, handed to the next as they are, made again for new geometry only.
   const auto shared_rig = std::make_shared<const Rig>(rig);
