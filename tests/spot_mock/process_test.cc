@@ -99,19 +99,20 @@ TEST(SpotMockProgram, ColourRobotOwnLoginAndCleanShutdown) {
   EXPECT_NE(mock.log().find("shutting down"), std::string::npos);
 }
 
-// Every camera's raw greyscale picture, as the mock serves it.
-std::vector<std::string> raw_pictures(const SpotMockProcess& mock) {
+// Every camera's raw greyscale picture (or, with `depth`, its depth image), as the mock serves it.
+std::vector<std::string> raw_pictures(const SpotMockProcess& mock, bool depth = false) {
   auto stub = bosdyn::api::ImageService::NewStub(mock.channel("api.spot.robot"));
   const std::string token = mock.login();
   bosdyn::api::ListImageSourcesResponse sources;
   EXPECT_TRUE(stub->ListImageSources(spot_context(token).get(), {}, &sources).ok());
   bosdyn::api::GetImageRequest request;
   for (const auto& source : sources.image_sources()) {
-    if (source.image_type() != bosdyn::api::ImageSource::IMAGE_TYPE_VISUAL) continue;  // the depth sources
+    const bool depth_source = source.image_type() == bosdyn::api::ImageSource::IMAGE_TYPE_DEPTH;
+    if (depth_source != depth) continue;
     auto* r = request.add_image_requests();
     r->set_image_source_name(source.name());
     r->set_image_format(Image::FORMAT_RAW);
-    r->set_pixel_format(Image::PIXEL_FORMAT_GREYSCALE_U8);
+    r->set_pixel_format(depth ? Image::PIXEL_FORMAT_DEPTH_U16 : Image::PIXEL_FORMAT_GREYSCALE_U8);
   }
   bosdyn::api::GetImageResponse response;
   EXPECT_TRUE(stub->GetImage(spot_context(token).get(), request, &response).ok());
@@ -120,36 +121,51 @@ std::vector<std::string> raw_pictures(const SpotMockProcess& mock) {
   return pictures;
 }
 
-// --render-cache: a later start serves exactly the pictures a fresh render gave, and an
-// entry that cannot be read is rendered again and replaced, never served.
+// --render-cache: a later start serves exactly the pictures and depth images a fresh render
+// gave, and an entry that cannot be read is rendered again and replaced, never served.
 TEST(SpotMockProgram, RenderCacheServesTheSamePicturesAndReplacesABrokenEntry) {
   TempDir dir;
   const std::filesystem::path cache = dir.path() / "render-cache";
   const std::vector<std::string> args = {"--scene", "test", "--supersample", "1", "--render-cache", cache.string()};
   std::vector<std::string> rendered;
+  std::vector<std::string> depths;
   {
     SpotMockProcess mock(dir.path(), args);
     rendered = raw_pictures(mock);
+    depths = raw_pictures(mock, true);
   }
   ASSERT_EQ(rendered.size(), 5u);
   for (const auto& picture : rendered) EXPECT_EQ(picture.size(), 640u * 480u);
+  ASSERT_EQ(depths.size(), 5u);
+  for (const auto& depth : depths) EXPECT_EQ(depth.size(), 640u * 480u * 2);
 
-  std::vector<std::filesystem::path> entries;
-  for (const auto& item : std::filesystem::directory_iterator(cache)) entries.push_back(item.path());
-  ASSERT_EQ(entries.size(), 1u) << "one entry, no staging folder left behind";
-  EXPECT_TRUE(std::filesystem::exists(entries[0] / "key"));
+  // Two entries, the pictures' (PNG) and the depth images' (their wire bytes).
+  std::filesystem::path pictures_entry, depth_entry;
+  int entries = 0;
+  for (const auto& item : std::filesystem::directory_iterator(cache)) {
+    ++entries;
+    (std::filesystem::exists(item.path() / "camera_0.png") ? pictures_entry : depth_entry) = item.path();
+  }
+  ASSERT_EQ(entries, 2) << "two entries, no staging folder left behind";
+  ASSERT_TRUE(std::filesystem::exists(depth_entry / "camera_0.bin"));
+  EXPECT_TRUE(std::filesystem::exists(pictures_entry / "key"));
   {
     SpotMockProcess mock(dir.path(), args);
     EXPECT_EQ(raw_pictures(mock), rendered) << "served from the cache";
+    EXPECT_EQ(raw_pictures(mock, true), depths) << "served from the cache";
   }
 
-  const auto broken = entries[0] / "camera_2.png";
+  const auto broken = pictures_entry / "camera_2.png";
   std::ofstream(broken, std::ios::trunc) << "not a PNG";
+  const auto lost = depth_entry / "camera_3.bin";
+  std::filesystem::remove(lost);
   {
     SpotMockProcess mock(dir.path(), args);
     EXPECT_EQ(raw_pictures(mock), rendered) << "rendered again";
+    EXPECT_EQ(raw_pictures(mock, true), depths) << "rendered again";
   }
   EXPECT_GT(std::filesystem::file_size(broken), 1000u) << "the broken entry was replaced";
+  EXPECT_EQ(std::filesystem::file_size(lost), 640u * 480u * 2) << "the incomplete entry was replaced";
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include "core/camera/camera_model.h"
+#include "spot_adapter/mock/sensors/render_cache.h"
 
 namespace omniview::spot_mock {
 
@@ -30,17 +31,36 @@ cv::Mat render_depth_mm(const synthetic::Scene& scene, const Rig& rig, size_t in
   return out;
 }
 
+CameraDepths::CameraDepths(SceneKind scene, const Rig& rig, const std::string& render_cache)
+    : scene_(scene), rig_(rig), raw_(rig.cameras().size()), rendered_(rig.cameras().size(), false) {
+  if (render_cache.empty()) return;
+  const RenderCache cache(render_cache, std::string("depth scene=") + to_string(scene) +
+                                            " range_mm=" + std::to_string(std::lround(kDepthRangeM * 1000)));
+  auto stored = cache.load_bytes();
+  if (!stored || stored->size() != raw_.size()) {
+    stored.emplace();
+    for (size_t c = 0; c < raw_.size(); ++c) stored->push_back(render(c));
+    cache.store_bytes(*stored);
+  }
+  raw_ = std::move(*stored);
+  rendered_.assign(raw_.size(), true);
+}
+
+std::string CameraDepths::render(size_t camera) const {
+  const cv::Mat depth = render_depth_mm(make_scene(scene_), rig_, camera, kWorldFrame);
+  std::string bytes(depth.total() * 2, '\0');
+  const uint16_t* values = depth.ptr<uint16_t>();  // continuous: just made
+  for (size_t p = 0; p < depth.total(); ++p) {  // little-endian on any host
+    bytes[2 * p] = static_cast<char>(values[p] & 0xff);
+    bytes[2 * p + 1] = static_cast<char>(values[p] >> 8);
+  }
+  return bytes;
+}
+
 const std::string& CameraDepths::raw(size_t camera) {
   std::lock_guard lock(mutex_);
   if (!rendered_.at(camera)) {
-    const cv::Mat depth = render_depth_mm(make_scene(scene_), rig_, camera, kWorldFrame);
-    std::string bytes(depth.total() * 2, '\0');
-    const uint16_t* values = depth.ptr<uint16_t>();  // continuous: just made
-    for (size_t p = 0; p < depth.total(); ++p) {  // little-endian on any host
-      bytes[2 * p] = static_cast<char>(values[p] & 0xff);
-      bytes[2 * p + 1] = static_cast<char>(values[p] >> 8);
-    }
-    raw_[camera] = std::move(bytes);
+    raw_[camera] = render(camera);
     rendered_[camera] = true;
   }
   return raw_[camera];

@@ -4,7 +4,11 @@
 // depth_scale 1000), 0 where nothing was measured: beyond the stereo cameras' range, or
 // nothing there. Rendered from the same scene as the pictures and the lidar, so the three
 // agree; each camera's on its first request only (most clients never ask, and ray casting
-// is the mock's start-up cost: a camera takes seconds under the sanitizers).
+// is the mock's start-up cost: a camera takes seconds under the sanitizers) — unless the
+// mock keeps a render cache: then all are read from it, or rendered and stored, at start,
+// so no GetImage waits for a render (under AddressSanitizer on a 2-core CI machine the first
+// depth request took longer than the daemon's 2 s deadline, again and again, for ~12 s, in
+// every test that watched a depth view).
 #pragma once
 
 #include <mutex>
@@ -28,8 +32,8 @@ cv::Mat render_depth_mm(const synthetic::Scene& scene, const Rig& rig, size_t in
 
 class CameraDepths {
  public:
-  CameraDepths(SceneKind scene, const Rig& rig)
-      : scene_(scene), rig_(rig), raw_(rig.cameras().size()), rendered_(rig.cameras().size(), false) {}
+  // `render_cache`: a folder as MockRobotConfig's (empty: none, render on request).
+  CameraDepths(SceneKind scene, const Rig& rig, const std::string& render_cache = "");
 
   // Camera `camera`'s depth image as the wire carries it: rows of little-endian uint16.
   // Thread-safe; the reference stays valid for the object's lifetime.
@@ -41,6 +45,8 @@ class CameraDepths {
   std::mutex mutex_;  // one render at a time: a mock's depth clients are few
   std::vector<std::string> raw_;  // sized once: references to its strings stay valid
   std::vector<bool> rendered_;
+
+  std::string render(size_t camera) const;  // the wire bytes
 };
 
 }  // namespace omniview::spot_mock

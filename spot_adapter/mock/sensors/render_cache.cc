@@ -9,6 +9,7 @@
 #include <functional>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 #include <system_error>
 
 #include "core/io/image_codec.h"
@@ -34,8 +35,8 @@ std::string hex(size_t value) {
   return text;
 }
 
-fs::path picture_file(const fs::path& entry, size_t camera) {
-  return entry / ("camera_" + std::to_string(camera) + ".png");
+fs::path item_file(const fs::path& entry, size_t index, const std::string& extension) {
+  return entry / ("camera_" + std::to_string(index) + extension);
 }
 
 // Entries nobody has written for a week belong to builds long gone.
@@ -57,24 +58,25 @@ RenderCache::RenderCache(fs::path folder, const std::string& key)
   entry_ = folder_ / hex(std::hash<std::string>{}(key_));
 }
 
-std::optional<std::vector<cv::Mat>> RenderCache::load() const {
+template <typename Item, typename ReadItem>
+std::optional<std::vector<Item>> RenderCache::load_items(const std::string& extension, ReadItem read_item) const {
   std::ifstream key_file(entry_ / "key");
   std::string stored_key;
   size_t count = 0;
   if (!std::getline(key_file, stored_key) || stored_key != key_ || !(key_file >> count) || count == 0) {
     return std::nullopt;
   }
-  std::vector<cv::Mat> pictures;
+  std::vector<Item> items;
   for (size_t i = 0; i < count; ++i) {
-    std::string why;
-    cv::Mat picture = read_image(picture_file(entry_, i), ImageColour::kAsStored, &why);
-    if (picture.empty()) return std::nullopt;
-    pictures.push_back(std::move(picture));
+    std::optional<Item> item = read_item(item_file(entry_, i, extension));
+    if (!item) return std::nullopt;
+    items.push_back(std::move(*item));
   }
-  return pictures;
+  return items;
 }
 
-void RenderCache::store(const std::vector<cv::Mat>& pictures) const {
+template <typename WriteItem>
+void RenderCache::store_items(size_t count, const std::string& extension, WriteItem write_item) const {
   std::error_code ec;
   fs::create_directories(folder_, ec);
   prune_old_entries(folder_);
@@ -82,9 +84,9 @@ void RenderCache::store(const std::vector<cv::Mat>& pictures) const {
   fs::remove_all(staging, ec);
   fs::create_directories(staging, ec);
   bool written = !ec;
-  for (size_t i = 0; written && i < pictures.size(); ++i) {
+  for (size_t i = 0; written && i < count; ++i) {
     try {
-      write_image(picture_file(staging, i), pictures[i]);
+      write_item(item_file(staging, i, extension), i);
     } catch (const std::exception& e) {
       std::cerr << "spot-mock: render cache: " << e.what() << "\n";
       written = false;
@@ -92,7 +94,7 @@ void RenderCache::store(const std::vector<cv::Mat>& pictures) const {
   }
   if (written) {
     std::ofstream key_file(staging / "key");
-    key_file << key_ << "\n" << pictures.size() << "\n";
+    key_file << key_ << "\n" << count << "\n";
     written = static_cast<bool>(key_file.flush());
   }
   if (written) {
@@ -102,6 +104,38 @@ void RenderCache::store(const std::vector<cv::Mat>& pictures) const {
   }
   if (!written) std::cerr << "spot-mock: cannot write the render cache " << entry_ << " (rendering each start)\n";
   fs::remove_all(staging, ec);
+}
+
+std::optional<std::vector<cv::Mat>> RenderCache::load() const {
+  return load_items<cv::Mat>(".png", [](const fs::path& file) -> std::optional<cv::Mat> {
+    std::string why;
+    cv::Mat picture = read_image(file, ImageColour::kAsStored, &why);
+    if (picture.empty()) return std::nullopt;
+    return picture;
+  });
+}
+
+void RenderCache::store(const std::vector<cv::Mat>& pictures) const {
+  store_items(pictures.size(), ".png", [&](const fs::path& file, size_t i) { write_image(file, pictures[i]); });
+}
+
+std::optional<std::vector<std::string>> RenderCache::load_bytes() const {
+  return load_items<std::string>(".bin", [](const fs::path& file) -> std::optional<std::string> {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    if (!in && !in.eof()) return std::nullopt;
+    return std::move(bytes).str();
+  });
+}
+
+void RenderCache::store_bytes(const std::vector<std::string>& items) const {
+  store_items(items.size(), ".bin", [&](const fs::path& file, size_t i) {
+    std::ofstream out(file, std::ios::binary);
+    out.write(items[i].data(), static_cast<std::streamsize>(items[i].size()));
+    if (!out.flush()) throw std::runtime_error("cannot write " + file.string());
+  });
 }
 
 }  // namespace omniview::spot_mock

@@ -30,12 +30,24 @@ class RenderCache {
   // otherwise ignored: the cache only saves time.
   void store(const std::vector<cv::Mat>& pictures) const;
 
+  // The same for data that is no picture (the depth images' wire bytes): one file each.
+  std::optional<std::vector<std::string>> load_bytes() const;
+  void store_bytes(const std::vector<std::string>& items) const;
+
   const std::filesystem::path& entry() const { return entry_; }
 
  private:
   std::filesystem::path folder_;
   std::string key_;  // the full key, kept in the entry to guard against hash collisions
   std::filesystem::path entry_;
+
+  // Reads `count` items with `read_item(file, index)`; nullopt if the entry is missing or any fails.
+  template <typename Item, typename ReadItem>
+  std::optional<std::vector<Item>> load_items(const std::string& extension, ReadItem read_item) const;
+  // Writes `count` items with `write_item(file, index)` (throws on failure) under a staging
+  // folder and renames it into place.
+  template <typename WriteItem>
+  void store_items(size_t count, const std::string& extension, WriteItem write_item) const;
 };
 
 }  // namespace omniview::spot_mock

@@ -29,7 +29,7 @@ std::vector<cv::Mat> camera_pictures(const MockRobotConfig& config, const Rig& r
 MockRobot::MockRobot(const MockRobotConfig& config)
     : rig(mock_rig()),
       cameras(camera_pictures(config, rig), config.colour),
-      depths(config.scene, rig),
+      depths(config.scene, rig, config.render_cache),
       lidar(scan(make_scene(config.scene), rig)),
       tokens(config.credentials, config.token_policy),
       faults(config.faults) {}

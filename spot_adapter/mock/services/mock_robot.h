@@ -22,7 +22,8 @@ struct MockRobotConfig {
   SceneKind scene = SceneKind::kRoom;
   bool colour = false;  // an RGB robot (newer Spots) instead of greyscale cameras
   int supersample = 2;  // rays per pixel along each axis when rendering
-  // A folder of pictures rendered by earlier starts (sensors/render_cache.h); empty: none.
+  // A folder of pictures and depth images rendered by earlier starts (sensors/render_cache.h);
+  // empty: none.
   std::string render_cache;
   Credentials credentials;
   TokenStore::Policy token_policy;
@@ -34,7 +35,7 @@ struct MockRobot {
 
   const Rig rig;  // mock_rig(): the cameras' intrinsics
   CameraImages cameras;
-  CameraDepths depths;  // rendered on first request
+  CameraDepths depths;  // from the render cache at start, else rendered on first request
   const LidarScan lidar;
   TokenStore tokens;
   Faults faults;
