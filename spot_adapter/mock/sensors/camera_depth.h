@@ -46,7 +46,7 @@ class CameraDepths {
   std::vector<std::string> raw_;  // sized once: references to its strings stay valid
   std::vector<bool> rendered_;
 
-  std::string render(size_t camera) const;  // the wire bytes
+  std::string render(const synthetic::Scene& world, size_t camera) const;  // the wire bytes
 };
 
 }  // namespace omniview::spot_mock
