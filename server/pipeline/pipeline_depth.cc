@@ -127,7 +127,10 @@ DepthReport Pipeline::describe_depth(const ViewState& state, size_t subscribers)
   const bool any = depth.geometry_version != 0;
   report.geometry_age_s = any ? std::chrono::duration<double>(DepthClock::now() - depth.geometry_arrival).count() : -1;
   report.update_ms = depth.update_ms;
-  report.measured_fraction = depth.measured_fraction;
+  // Unwatched, the share is what a new watcher would get: 0, for a view watched again starts
+  // on its fixed surface (its old geometry is dropped); the last share, shown before, read as
+  // if the view still stood on measured depth (a reviewer's finding).
+  report.measured_fraction = subscribers == 0 ? 0 : depth.measured_fraction;
   const Source& source = channel(state.spec.source).source();
   const SourceGeometry& g = geometry(source.name());
   if (!source.provides_clouds() && !any) {

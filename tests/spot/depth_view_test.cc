@@ -438,6 +438,7 @@ TEST_F(DepthViews, AViewWatchedAgainDropsItsOldGeometry) {
   const double unwatched_age = unwatched.depth_geometry_age_s();
   EXPECT_TRUE(unwatched_age < 0 || unwatched_age >= 4) << "geometry " << unwatched_age << " s old, unwatched";
   EXPECT_NE(unwatched.depth_message().find("not watched"), std::string::npos) << unwatched.depth_message();
+  EXPECT_EQ(unwatched.measured_depth(), 0) << "a watcher would start on the fixed surface";
   const auto watched_again = std::chrono::steady_clock::now();
   LatestFrame again(*stub_, "measured");
   ASSERT_TRUE(eventually_within([&] { return again.count() > 0; }, 20s));
