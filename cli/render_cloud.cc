@@ -21,7 +21,7 @@ RenderCloud load_render_cloud(const Args& args, const Rig& rig) {
   }
   PointCloud cloud;
   try {
-    cloud = load_cloud(out.file);
+    cloud = load_cloud(out.file, kMaxCloudPoints);  // refused by its header, before its body is parsed
   } catch (const std::exception& e) {
     // The readers name the file already: said as every other --cloud error is.
     const std::string message = e.what();

@@ -15,13 +15,13 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 }  // namespace
 
-PointCloud load_cloud(const std::string& path) {
+PointCloud load_cloud(const std::string& path, size_t max_points) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CloudFormatError(path + ": cannot open the file");
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (data.compare(0, 3, "ply") == 0) return parse_ply(data, path);
+  if (data.compare(0, 3, "ply") == 0) return parse_ply(data, path, max_points);
   if (data.empty()) throw CloudFormatError(path + ": the file is empty");
-  if (data[0] == '#' || data.compare(0, 7, "VERSION") == 0 || data.compare(0, 6, "FIELDS") == 0) return parse_pcd(data, path);
+  if (data[0] == '#' || data.compare(0, 7, "VERSION") == 0 || data.compare(0, 6, "FIELDS") == 0) return parse_pcd(data, path, max_points);
   throw CloudFormatError(path + ": neither a PLY nor a PCD file");
 }
 

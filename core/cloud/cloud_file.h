@@ -9,6 +9,8 @@
 // CloudCompare and PCL show.
 #pragma once
 
+#include <cstddef>
+#include <limits>
 #include <string>
 #include <string_view>
 
@@ -18,16 +20,20 @@ namespace omniview {
 
 enum class CloudEncoding { kBinary, kAscii };
 
-// `name` is what errors call the data (a file name).
-PointCloud parse_ply(std::string_view data, const std::string& name);
+// No limit on a cloud's points (the readers' default).
+inline constexpr size_t kAnyNumberOfPoints = std::numeric_limits<size_t>::max();
+
+// `name` is what errors call the data (a file name). A header that declares more than
+// `max_points` points is refused before its body is read (CloudFormatError naming the limit).
+PointCloud parse_ply(std::string_view data, const std::string& name, size_t max_points = kAnyNumberOfPoints);
 std::string format_ply(const PointCloud& cloud, CloudEncoding encoding = CloudEncoding::kBinary);
 
-PointCloud parse_pcd(std::string_view data, const std::string& name);
+PointCloud parse_pcd(std::string_view data, const std::string& name, size_t max_points = kAnyNumberOfPoints);
 std::string format_pcd(const PointCloud& cloud, CloudEncoding encoding = CloudEncoding::kBinary);
 
 // By content (PLY starts with "ply", PCD with a comment or a header keyword), so a file's
 // extension does not matter. Throws CloudFormatError naming the file.
-PointCloud load_cloud(const std::string& path);
+PointCloud load_cloud(const std::string& path, size_t max_points = kAnyNumberOfPoints);
 // By extension: .ply or .pcd (anything else is an error naming the file).
 void save_cloud(const PointCloud& cloud, const std::string& path, CloudEncoding encoding = CloudEncoding::kBinary);
 

@@ -14,6 +14,7 @@
 namespace omniview {
 namespace {
 
+using cloud_io::check_point_limit;
 using cloud_io::fail;
 using cloud_io::Field;
 using cloud_io::Scalar;
@@ -45,7 +46,7 @@ uint64_t parse_count(std::string_view word, const std::string& name, const std::
 
 }  // namespace
 
-PointCloud parse_pcd(std::string_view data, const std::string& name) {
+PointCloud parse_pcd(std::string_view data, const std::string& name, size_t max_points) {
   cloud_io::TextCursor cur(data);
   std::vector<std::string> field_names;
   std::vector<uint64_t> sizes, counts;
@@ -136,6 +137,7 @@ PointCloud parse_pcd(std::string_view data, const std::string& name) {
   }
   const cloud_io::CloudAssembler assembler(fields, name);
   const std::string_view body = data.substr(cur.offset());
+  check_point_limit(*points, max_points, name);
   if (data_kind == "binary") {
     const size_t record = assembler.record_size();
     if (*points > body.size() / record) {

@@ -11,6 +11,7 @@
 namespace omniview {
 namespace {
 
+using cloud_io::check_point_limit;
 using cloud_io::fail;
 using cloud_io::Field;
 using cloud_io::Scalar;
@@ -125,10 +126,11 @@ PlyHeader parse_header(std::string_view data, const std::string& name) {
 
 }  // namespace
 
-PointCloud parse_ply(std::string_view data, const std::string& name) {
+PointCloud parse_ply(std::string_view data, const std::string& name, size_t max_points) {
   const PlyHeader h = parse_header(data, name);
   const auto vertex = std::find_if(h.elements.begin(), h.elements.end(), [](const PlyElement& e) { return e.name == "vertex"; });
   if (vertex == h.elements.end()) fail(name, "no 'vertex' element");
+  check_point_limit(vertex->count, max_points, name);
   std::vector<Field> fields;
   for (const auto& p : vertex->properties) {
     if (p.is_list) {

@@ -230,4 +230,11 @@ void fail(const std::string& name, const std::string& message) {
   throw CloudFormatError(name + ": " + message);
 }
 
+void check_point_limit(uint64_t declared, size_t max_points, const std::string& name) {
+  if (declared > max_points) {
+    fail(name, "its header declares " + std::to_string(declared) + " points, more than the limit of " +
+                   std::to_string(max_points));
+  }
+}
+
 }  // namespace omniview::cloud_io

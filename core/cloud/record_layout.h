@@ -81,6 +81,8 @@ inline void append_word(std::string& out, uint64_t value) {
 // Stamp and frame as both writers record them in comments.
 // Throws CloudFormatError "NAME: MESSAGE": the file (or source) first, as every reader says it.
 [[noreturn]] void fail(const std::string& name, const std::string& message);
+// Refuses a header that declares more than `max_points` points, before its body is read.
+void check_point_limit(uint64_t declared, size_t max_points, const std::string& name);
 
 std::string stamp_to_string(std::chrono::system_clock::time_point stamp);
 bool stamp_from_string(std::string_view text, std::chrono::system_clock::time_point& stamp);

@@ -412,6 +412,17 @@ TEST_F(RenderCli, BadCloudsAndMissingCloudsAreClearErrors) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("empty.ply: the cloud has no points"), std::string::npos) << r.output;
 
+  // More points than render takes (20 M): refused by the header's count, before a body
+  // (here a short one) would be parsed.
+  write("huge.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 21000000\nproperty float x\n"
+                    "property float y\nproperty float z\nend_header\n0123456789ab");
+  r = run(measured + " --cloud " + path("huge.ply"));
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("--cloud " + path("huge.ply") +
+                          ": its header declares 21000000 points, more than the limit of 20000000"),
+            std::string::npos)
+      << r.output;
+
   write("wall.ply", wall_ply());
   r = run(measured + " --cloud " + path("wall.ply") + " --cloud-frame lidar");
   EXPECT_NE(r.exit_code, 0);

@@ -165,6 +165,34 @@ TEST(CloudFile, MalformedPcdNamesFileAndField) {
   EXPECT_NE(error_of("VERSION 0.7\nFIELDS x y z\n", false).find("header ends before its DATA line"), std::string::npos);
 }
 
+// A reader given a limit refuses a header that declares more points, before its body: a
+// 21 M-point file was parsed whole before omniview render refused it.
+TEST(CloudFile, AHeaderDeclaringTooManyPointsIsRefusedBeforeItsBody) {
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nend_header\n1 2 3\n4 5 6\n7 8 9\n";
+  EXPECT_EQ(parse_ply(ply, "a.ply", 3).size(), 3u);
+  try {
+    parse_ply(ply, "a.ply", 2);
+    ADD_FAILURE() << "no error";
+  } catch (const CloudFormatError& e) {
+    EXPECT_STREQ(e.what(), "a.ply: its header declares 3 points, more than the limit of 2");
+  }
+  // The body is never looked at: a header alone is enough to refuse.
+  EXPECT_THROW(parse_ply("ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\n"
+                         "property float y\nproperty float z\nend_header\n",
+                         "b.ply", 20'000'000),
+               CloudFormatError);
+  const std::string pcd = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+                          "POINTS 3\nDATA ascii\n1 2 3\n4 5 6\n7 8 9\n";
+  EXPECT_EQ(parse_pcd(pcd, "a.pcd", 3).size(), 3u);
+  try {
+    parse_pcd(pcd, "a.pcd", 2);
+    ADD_FAILURE() << "no error";
+  } catch (const CloudFormatError& e) {
+    EXPECT_STREQ(e.what(), "a.pcd: its header declares 3 points, more than the limit of 2");
+  }
+}
+
 TEST(CloudFile, FilterAndAppendKeepFieldsTogether) {
   auto c = sample_cloud(true);
   std::vector<bool> keep(c.size());
