@@ -90,6 +90,17 @@ void BM_DepthSurfaceOnly(benchmark::State& state, int rotations) {
   for (auto _ : state) benchmark::DoNotOptimize(surface.update(points, T_view_body));
 }
 
+// The surface on the view's own pixels, as before the lattice (DepthOptions::lattice_cell_deg).
+void BM_DepthSurfacePerPixel(benchmark::State& state, int rotations) {
+  const ViewSpec spec = front_view(Depth::kMeasured);
+  DepthOptions per_pixel;
+  per_pixel.lattice_cell_deg = 0;
+  const DepthSurface surface(spec, per_pixel);
+  const auto& points = lidar_points(rotations);
+  const Pose T_view_body = spec.T_frame_view().inverse();
+  for (auto _ : state) benchmark::DoNotOptimize(surface.update(points, T_view_body));
+}
+
 void BM_DepthOcclusionOnly(benchmark::State& state, int rotations) {
   const ViewSpec spec = front_view(Depth::kMeasured);
   const auto& points = lidar_points(rotations);
@@ -128,6 +139,8 @@ BENCHMARK_CAPTURE(BM_DepthUpdate, vlp16_1_rotation, 1)->Unit(benchmark::kMillise
 BENCHMARK_CAPTURE(BM_DepthUpdate, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthSurfaceOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthSurfaceOnly, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthSurfacePerPixel, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthSurfacePerPixel, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthOcclusionOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthOcclusionOnly, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthJudgedOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -167,21 +167,48 @@ void MeasuredDepthView::surface_points_at(int v, const int* columns, int n, floa
 }
 
 DepthSurface::DepthSurface(const ViewSpec& spec, const DepthOptions& options)
-    : rays_(make_view_rays(View::create(spec))), options_(options) {}
+    : rays_(make_view_rays(View::create(spec))), lattice_(make_surface_lattice(rays_, options.lattice_cell_deg)),
+      options_(options) {}
 
 std::shared_ptr<const MeasuredDepthView> DepthSurface::update(const std::vector<Eigen::Vector3f>& points,
                                                               const Pose& T_view_points, DepthStats* stats) const {
   DepthStats local;
   DepthStats& s = stats ? *stats : local;
-  const std::vector<float> splatted = splat_points(*rays_, points, T_view_points, s);
-  const std::vector<float> filled = fill_gaps(*rays_, splatted, options_, s);
-  BlendedSurface surface = blend_with_fixed(*rays_, filled, options_);
-  s.measured_pixels += surface.measured_pixels;
-  s.blended_pixels += surface.blended_pixels;
+  // The lattice where the points are sparser than the view's pixels (a lidar, depth images
+  // taken every few pixels); the view's own pixels where they are as dense (a depth per
+  // pixel): a cell keeps the nearest of its samples, and at an object's edge the pixels
+  // beside it would stand at the object's range. Counted by the lattice's splat itself.
+  bool use_lattice = lattice_.cell > 1;
+  std::vector<float> splatted;
+  if (use_lattice) {
+    DepthStats counted;
+    splatted = splat_points(*lattice_.cells, points, T_view_points, counted);
+    const size_t inside = counted.points - counted.non_finite - counted.outside_view;
+    use_lattice = double(inside) < kDenseSamplesPerPixel * double(rays_->size());
+    if (use_lattice) {
+      s.points += counted.points;
+      s.non_finite += counted.non_finite;
+      s.outside_view += counted.outside_view;
+      s.splatted_pixels += counted.splatted_pixels;
+    }
+  }
+  if (!use_lattice) splatted = splat_points(*rays_, points, T_view_points, s);
+  const ViewRays& cells = use_lattice ? *lattice_.cells : *rays_;
+  const std::vector<float> filled = fill_gaps(cells, splatted, options_, s);
+  BlendedSurface surface = blend_with_fixed(cells, filled, options_);
   std::vector<uint8_t> sampled(splatted.size());
   for (size_t i = 0; i < sampled.size(); ++i) sampled[i] = splatted[i] > 0.f && filled[i] == splatted[i];
-  return std::make_shared<MeasuredDepthView>(rays_, std::move(surface.range), std::move(surface.measured),
-                                             std::move(sampled));
+  if (!use_lattice) {
+    s.measured_pixels += surface.measured_pixels;
+    s.blended_pixels += surface.blended_pixels;
+    return std::make_shared<MeasuredDepthView>(rays_, std::move(surface.range), std::move(surface.measured),
+                                               std::move(sampled));
+  }
+  UpsampledSurface view = upsample_surface(lattice_, *rays_, surface, sampled, options_);
+  s.measured_pixels += view.measured_pixels;
+  s.blended_pixels += view.blended_pixels;
+  return std::make_shared<MeasuredDepthView>(rays_, std::move(view.range), std::move(view.measured),
+                                             std::move(view.sampled));
 }
 
 }  // namespace omniview

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "core/depth/depth_options.h"
+#include "core/depth/surface_lattice.h"
 #include "core/depth/view_rays.h"
 #include "core/geometry/pose.h"
 #include "core/view/view.h"
@@ -68,8 +69,9 @@ class MeasuredDepthView : public View {
   std::vector<uint8_t> sampled_;
 };
 
-// Makes MeasuredDepthViews of one view spec from successive sets of points: the rays and
-// the fixed surface are computed once, each update costs a splat, a gap fill and a blend.
+// Makes MeasuredDepthViews of one view spec from successive sets of points: the rays, the
+// fixed surface and the lattice are computed once, each update costs a splat, a gap fill
+// and a blend on the lattice (surface_lattice.h) and a pass over the view's pixels.
 class DepthSurface {
  public:
   // Throws std::invalid_argument for an invalid spec (validate()).
@@ -81,9 +83,14 @@ class DepthSurface {
                                                   const Pose& T_view_points, DepthStats* stats = nullptr) const;
 
   const ViewRays& rays() const { return *rays_; }
+  const SurfaceLattice& lattice() const { return lattice_; }
+  // At least this many points per view pixel inside the view: the surface is made on the
+  // view's own pixels, not the lattice (a depth per pixel resolves finer than a cell).
+  static constexpr double kDenseSamplesPerPixel = 0.25;
 
  private:
   std::shared_ptr<const ViewRays> rays_;
+  SurfaceLattice lattice_;
   DepthOptions options_;
 };
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 #include <limits>
 
 #include "core/depth/camera_occluders.h"
@@ -158,6 +159,108 @@ TEST(DepthSurface, APanoramaStandsOnTheMeasuredRoom) {
   }
   EXPECT_GT(double(on_room) / double(rows), 0.99);
   EXPECT_GT(view->measured_fraction(), 0.7);  // +-15 of the +-20 deg
+}
+
+// The same points make the same surface whatever the view's resolution: the surface is
+// built on a lattice of a fixed angle (surface_lattice.h). A reviewer found the share on
+// measured depth falling with resolution when it was built per view pixel (99 % at
+// 512 x 256, 77 % at 4096 x 2048). An equirectangular panorama in a round room of radius 3
+// sampled like a VLP-16, at 512 x 256 and 2048 x 1024 over 180 deg of azimuth.
+TEST(DepthSurface, TheSurfaceDoesNotDependOnTheViewsResolution) {
+  std::vector<Eigen::Vector3f> points;
+  for (double az = 0; az < 360; az += 0.2) {
+    for (double el = -15; el <= 15.01; el += 2) {
+      const double a = az * M_PI / 180, e = el * M_PI / 180;
+      points.emplace_back(float(3 * std::cos(a)), float(3 * std::sin(a)), float(3 * std::tan(e)));
+    }
+  }
+  const auto measure = [&](int w, DepthOptions options, int* cell) {
+    ViewSpec spec;
+    spec.name = "pano";
+    spec.type = ViewType::kEquirectangular;
+    spec.azimuth_span_deg = 180;  // 0.35 and 0.09 deg pixels
+    spec.width = w;
+    spec.height = w / 2;
+    spec.radius = 5;
+    spec.depth = Depth::kMeasured;
+    const DepthSurface surface(spec, options);
+    *cell = surface.lattice().cell;
+    const auto view = surface.update(points, Pose::Identity());
+    // Within the rings' +-15 deg every pixel on the room's wall.
+    size_t on_room = 0, pixels = 0;
+    for (int v = 0; v < spec.height; ++v) {
+      const double el = 90 - 180.0 * (v + 0.5) / spec.height;
+      if (std::abs(el) > 14) continue;
+      for (int u = 0; u < spec.width; u += std::max(1, w / 512)) {
+        Vec3 p;
+        EXPECT_TRUE(view->pixel_to_point(u, v, p));
+        ++pixels;
+        on_room += std::abs(std::hypot(p.x(), p.y()) - 3.0) < 0.02;
+      }
+    }
+    return std::make_pair(view->measured_fraction(), double(on_room) / double(pixels));
+  };
+  int small_cell = 0, big_cell = 0, per_pixel_cell = 0;
+  const auto [small_share, small_on_room] = measure(512, {}, &small_cell);
+  const auto [big_share, big_on_room] = measure(2048, {}, &big_cell);
+  DepthOptions per_pixel;
+  per_pixel.lattice_cell_deg = 0;  // the view's own pixels, as before the lattice
+  const auto [old_share, old_on_room] = measure(2048, per_pixel, &per_pixel_cell);
+  std::cout << "measured share: 512 px " << small_share << ", 2048 px " << big_share << " (per pixel " << old_share
+            << "); on the wall " << small_on_room << " / " << big_on_room << " (" << old_on_room << ")\n";
+  EXPECT_EQ(small_cell, 1);  // 0.35 deg pixels: coarser than the lattice
+  EXPECT_EQ(big_cell, 3);    // 0.09 deg pixels: cells of 0.26 deg
+  EXPECT_EQ(per_pixel_cell, 1);
+  EXPECT_NEAR(big_share, small_share, 0.02);
+  EXPECT_GT(small_on_room, 0.99);
+  EXPECT_GT(big_on_room, 0.99);
+}
+
+// Depth for every pixel (a dense depth image, the goldens' exact depth) is finer than a
+// cell: the surface is then made on the view's own pixels, so an object's edge stays where
+// it is (on the lattice the pixels beside it stood at its range: the golden bird's-eye at
+// 800 x 800 on exact depth lost 12 dB that way).
+TEST(DepthSurface, DepthForEveryPixelStaysOnTheViewsPixels) {
+  const ViewSpec spec = perspective(1200, 600);
+  const DepthSurface surface(spec);
+  ASSERT_GE(surface.lattice().cell, 2);
+  DepthOptions per_pixel;
+  per_pixel.lattice_cell_deg = 0;
+  const DepthSurface on_pixels(spec, per_pixel);
+  std::vector<Eigen::Vector3f> points;  // a box 1.5 m ahead in the middle, the wall at 3 m
+  for (int v = 0; v < spec.height; ++v) {
+    for (int u = 0; u < spec.width; ++u) {
+      Vec3 d;
+      ASSERT_TRUE(surface.rays().view->pixel_to_direction(u, v, d));
+      const double x = std::abs(u - 600) < 100 ? 1.5 : 3.0;
+      points.push_back((d * (x / d.x())).cast<float>());
+    }
+  }
+  const auto view = surface.update(points, Pose::Identity());
+  const auto reference = on_pixels.update(points, Pose::Identity());
+  for (int v = 0; v < spec.height; v += 5) {
+    for (int u = 490; u < 510; ++u) ASSERT_EQ(view->range_at(u, v), reference->range_at(u, v)) << u << "," << v;
+  }
+}
+
+// Every view type's projection lines up with its lattice (else the surface would fall back
+// to the view's pixels, at their cost).
+TEST(DepthSurface, EveryViewTypeHasALattice) {
+  for (const ViewType type : {ViewType::kPerspective, ViewType::kBirdseye, ViewType::kCylindrical, ViewType::kMercator,
+                              ViewType::kEquirectangular, ViewType::kFisheye}) {
+    ViewSpec spec = perspective(1200, 600);
+    spec.type = type;
+    spec.azimuth_span_deg = 90;  // panoramas: 0.075 deg pixels, as the perspective's
+    spec.fov_deg = 60;           // fisheye: 0.1 deg pixels
+    spec.radius = 5;
+    spec.vfov_deg = 60;
+    spec.height_m = 4;
+    spec.lat_min_deg = -60;
+    spec.lat_max_deg = 60;
+    const DepthSurface surface(spec);
+    EXPECT_GE(surface.lattice().cell, 2) << to_string(type);
+    EXPECT_LE(surface.lattice().cells->width * surface.lattice().cell, spec.width + surface.lattice().cell);
+  }
 }
 
 TEST(DepthSurface, MeasuredViewsAreRejectedWhereTheSpecIsInvalid) {
