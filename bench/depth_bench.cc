@@ -1,6 +1,7 @@
 // Depth update of a measured-depth view (issue 32): a 1024x512 front perspective view over
 // the Spot-like rig's five cameras, from one VLP-16 rotation (~29 k points) and from ten
-// accumulated rotations (~290 k), in the bundled example's room. One update = the surface
+// accumulated rotations (~290 k), in the bundled example's room. One update = the columns
+// that complete the points (core/depth/column_completion.h), the surface
 // from the points (splat, gap fill, blend with the fixed surface), the cameras' occlusion
 // buffers, and the map build with occlusion (adaptive; the exact one beside it). The anchor, in the same run: today's
 // fixed map build of the same view. Run on 2 threads: ./depth_bench (see bench/README.md).
@@ -14,6 +15,7 @@
 #include <opencv2/core/utility.hpp>
 
 #include "core/depth/camera_occluders.h"
+#include "core/depth/column_completion.h"
 #include "core/depth/measured_depth_view.h"
 #include "core/map/fusion_map.h"
 #include "core/synthetic/lidar_scan.h"
@@ -53,32 +55,53 @@ ViewSpec front_view(Depth depth) {
 }
 
 // `rotations` VLP-16 rotations from poses a few centimetres and degrees apart (a robot
-// moving slowly), in the body frame.
-const std::vector<Eigen::Vector3f>& lidar_points(int rotations) {
-  static std::map<int, std::vector<Eigen::Vector3f>> cache;
-  auto& points = cache[rotations];
-  if (!points.empty()) return points;
+// moving slowly), in the body frame, with their top rings (column_completion.h).
+struct LidarPoints {
+  std::vector<Eigen::Vector3f> points;
+  std::vector<uint8_t> top;
+};
+const LidarPoints& lidar(int rotations) {
+  static std::map<int, LidarPoints> cache;
+  auto& out = cache[rotations];
+  if (!out.points.empty()) return out;
   const synthetic::Scene room = synthetic::Scene::room();
   for (int k = 0; k < rotations; ++k) {
     const Pose motion = make_pose(Vec3(0.03 * k, 0.01 * k, 0), 0.01 * k, 0, 0);
     const Pose T_body_lidar = motion * kBodyLidar;
     const PointCloud scan = synthetic::scan_vlp16(room, kWorldBody * T_body_lidar, "lidar", {});
-    for (const auto& p : scan.points) points.push_back((T_body_lidar * p.cast<double>()).cast<float>());
+    for (const auto& p : scan.points) out.points.push_back((T_body_lidar * p.cast<double>()).cast<float>());
+    const std::vector<uint8_t> top = top_of_field(scan.points);
+    out.top.insert(out.top.end(), top.begin(), top.end());
   }
-  return points;
+  return out;
 }
+const std::vector<Eigen::Vector3f>& lidar_points(int rotations) { return lidar(rotations).points; }
 
-void BM_DepthUpdate(benchmark::State& state, int rotations) {
+void BM_DepthUpdate(benchmark::State& state, int rotations, bool with_columns) {
   const ViewSpec spec = front_view(Depth::kMeasured);
   const DepthSurface surface(spec);
-  const auto& points = lidar_points(rotations);
+  const LidarPoints& l = lidar(rotations);
   const Pose T_view_body = spec.T_frame_view().inverse();
+  size_t added = 0;
   for (auto _ : state) {
-    const auto view = surface.update(points, T_view_body);
-    const Occlusion occlusion = view_occlusion(range_images(), *view, points, T_view_body);
+    const Completion completion = with_columns ? complete_columns(rig(), l.points, l.top,
+                                                                  kBodyLidar.translation().cast<float>())
+                                               : Completion{};
+    const auto view = surface.update(l.points, T_view_body, nullptr, &completion.points);
+    const Occlusion occlusion = view_occlusion(range_images(), *view, l.points, T_view_body, {}, &completion.points);
     benchmark::DoNotOptimize(build_map(rig(), *view, MapPrecision::kAdaptive, Sampling::kFootprint, &occlusion));
+    added = completion.points.size();
   }
-  state.counters["points"] = double(points.size());
+  state.counters["points"] = double(l.points.size());
+  state.counters["columns_points"] = double(added);
+}
+
+// The columns alone (once per geometry in the daemon, shared by its depth views).
+void BM_ColumnCompletionOnly(benchmark::State& state, int rotations) {
+  const LidarPoints& l = lidar(rotations);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(complete_columns(rig(), l.points, l.top, kBodyLidar.translation().cast<float>()));
+  }
 }
 
 // The parts of one update, to see where its time goes.
@@ -88,6 +111,27 @@ void BM_DepthSurfaceOnly(benchmark::State& state, int rotations) {
   const auto& points = lidar_points(rotations);
   const Pose T_view_body = spec.T_frame_view().inverse();
   for (auto _ : state) benchmark::DoNotOptimize(surface.update(points, T_view_body));
+}
+
+void BM_DepthSurfaceWithColumns(benchmark::State& state, int rotations) {
+  const ViewSpec spec = front_view(Depth::kMeasured);
+  const DepthSurface surface(spec);
+  const LidarPoints& l = lidar(rotations);
+  const Completion completion = complete_columns(rig(), l.points, l.top, kBodyLidar.translation().cast<float>());
+  const Pose T_view_body = spec.T_frame_view().inverse();
+  for (auto _ : state) benchmark::DoNotOptimize(surface.update(l.points, T_view_body, nullptr, &completion.points));
+}
+
+void BM_DepthMapWithColumns(benchmark::State& state, int rotations) {
+  const ViewSpec spec = front_view(Depth::kMeasured);
+  const LidarPoints& l = lidar(rotations);
+  const Completion completion = complete_columns(rig(), l.points, l.top, kBodyLidar.translation().cast<float>());
+  const Pose T_view_body = spec.T_frame_view().inverse();
+  const auto view = DepthSurface(spec).update(l.points, T_view_body, nullptr, &completion.points);
+  const Occlusion occlusion = view_occlusion(range_images(), *view, l.points, T_view_body, {}, &completion.points);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(build_map(rig(), *view, MapPrecision::kAdaptive, Sampling::kFootprint, &occlusion));
+  }
 }
 
 // The surface on the view's own pixels, as before the lattice (DepthOptions::lattice_cell_deg).
@@ -135,8 +179,15 @@ void BM_FixedMapBuild(benchmark::State& state, MapPrecision precision) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(BM_DepthUpdate, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_DepthUpdate, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthUpdate, vlp16_1_rotation, 1, true)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthUpdate, vlp16_10_rotations, 10, true)->Unit(benchmark::kMillisecond)->UseRealTime();
+// Without the columns (before stop 41), to see what they cost.
+BENCHMARK_CAPTURE(BM_DepthUpdate, vlp16_1_rotation_no_columns, 1, false)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthUpdate, vlp16_10_rotations_no_columns, 10, false)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ColumnCompletionOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_ColumnCompletionOnly, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthSurfaceWithColumns, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthMapWithColumns, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthSurfaceOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthSurfaceOnly, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthSurfacePerPixel, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();

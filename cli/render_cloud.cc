@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "core/cloud/cloud_file.h"
+#include "core/depth/column_completion.h"
 
 namespace omniview::cli {
 
@@ -39,13 +40,20 @@ RenderCloud load_render_cloud(const Args& args, const Rig& rig) {
                              (args.has("cloud-frame") ? "--cloud-frame" : "recorded in the file") +
                              ") is not a frame of the rig (known frames: " + joined(known) + ")");
   }
-  out.points = std::move(cloud.points);
   out.non_finite = static_cast<size_t>(
-      std::count_if(out.points.begin(), out.points.end(), [](const Eigen::Vector3f& p) { return !p.allFinite(); }));
-  if (out.non_finite == out.points.size()) {
-    throw std::runtime_error(what + ": none of its " + std::to_string(out.points.size()) +
+      std::count_if(cloud.points.begin(), cloud.points.end(), [](const Eigen::Vector3f& p) { return !p.allFinite(); }));
+  if (out.non_finite == cloud.points.size()) {
+    throw std::runtime_error(what + ": none of its " + std::to_string(cloud.points.size()) +
                              " points is finite (all NaN or infinite)");
   }
+  // In the robot frame, completed as the daemon completes its geometry (column_completion.h):
+  // a lidar's top ring told in its own frame.
+  const auto lidar = lidar_origin(rig, out.frame);
+  const std::vector<uint8_t> top = lidar ? top_of_field(cloud.points) : std::vector<uint8_t>{};
+  const Eigen::Isometry3f T_robot_cloud = rig.frames().lookup(rig.default_frame(), out.frame).cast<float>();
+  out.points.reserve(cloud.points.size());
+  for (const auto& p : cloud.points) out.points.push_back(T_robot_cloud * p);
+  out.completion = complete_columns(rig, out.points, top, lidar);
   return out;
 }
 

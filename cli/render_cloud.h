@@ -9,6 +9,7 @@
 
 #include "cli/args.h"
 #include "cli/rig_args.h"
+#include "core/depth/column_completion.h"
 #include "core/rig/rig.h"
 
 namespace omniview::cli {
@@ -20,8 +21,9 @@ inline constexpr size_t kMaxCloudFileBytes = size_t(2) << 30;  // 2 GiB
 
 struct RenderCloud {
   std::string file;
-  std::string frame;  // a frame of the rig
-  std::vector<Eigen::Vector3f> points;
+  std::string frame;                    // the rig frame the file's points are in
+  std::vector<Eigen::Vector3f> points;  // in the rig's default (robot) frame
+  Completion completion;                // what completes them (core/depth/column_completion.h)
   size_t non_finite = 0;  // points without a return (NaN, inf): kept, the depth code skips them
 };
 

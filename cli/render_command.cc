@@ -244,16 +244,17 @@ void check_needed_images(const NamedView& view, const FusionMap& map, const Rig&
 FusionMap measured_depth_map(const NamedView& view, const Rig& rig, const RenderCloud& cloud, std::string& note) {
   const ViewSpec& spec = view.spec;
   const std::string frame = spec.frame.empty() ? rig.default_frame() : spec.frame;
-  const Pose T_view_cloud = spec.T_frame_view().inverse() * rig.frames().lookup(frame, cloud.frame);
+  const Pose T_view_robot = spec.T_frame_view().inverse() * rig.frames().lookup(frame, rig.default_frame());
   DepthStats stats;
-  const auto depth_view = DepthSurface(spec).update(cloud.points, T_view_cloud, &stats);
-  const Occlusion occlusion =
-      view_occlusion(CameraRangeImages(rig, ViewOcclusionOptions{}.cell_deg), *depth_view, cloud.points, T_view_cloud);
+  const auto depth_view = DepthSurface(spec).update(cloud.points, T_view_robot, &stats, &cloud.completion.points);
+  const Occlusion occlusion = view_occlusion(CameraRangeImages(rig, ViewOcclusionOptions{}.cell_deg), *depth_view,
+                                             cloud.points, T_view_robot, {}, &cloud.completion.points);
   std::ostringstream os;
   os << std::fixed << std::setprecision(1) << ", " << 100 * depth_view->measured_fraction()
      << " % on measured depth (" << stats.points - stats.non_finite - stats.outside_view << " of "
      << stats.points << " points in view";
   if (stats.non_finite) os << ", " << stats.non_finite << " NaN/inf skipped";
+  if (!cloud.completion.points.empty()) os << "; " << cloud.completion.stats.columns << " columns complete them";
   os << ")";
   note = os.str();
   return build_map(rig, *depth_view, MapPrecision::kAdaptive, Sampling::kFootprint, &occlusion);

@@ -47,7 +47,7 @@ CameraRangeImages::CameraRangeImages(const Rig& rig, double cell_deg) : rig_(rig
 
 Occlusion CameraRangeImages::occluders(const std::vector<Eigen::Vector3f>& points, const std::string& points_frame,
                                        const Pose& T_frame_points, const DepthOptions& depth, float tolerance_rel,
-                                       float tolerance_m) const {
+                                       float tolerance_m, const std::vector<Eigen::Vector3f>* completion) const {
   const auto& cameras = rig_.cameras();
   for (const auto& cam : cameras) {
     if (!rig_.frames().try_lookup(points_frame, cam.name)) {
@@ -59,32 +59,44 @@ Occlusion CameraRangeImages::occluders(const std::vector<Eigen::Vector3f>& point
   occlusion.tolerance_rel = tolerance_rel;
   occlusion.tolerance_m = tolerance_m;
   occlusion.cameras.resize(cameras.size());
-  const size_t n = points.size();
-  std::vector<float> x(n), y(n), z(n);
-  for (size_t i = 0; i < n; ++i) x[i] = points[i].x(), y[i] = points[i].y(), z[i] = points[i].z();
+  // Structure of arrays for project_camera.
+  struct Coordinates {
+    std::vector<float> x, y, z;
+    explicit Coordinates(const std::vector<Eigen::Vector3f>& points)
+        : x(points.size()), y(points.size()), z(points.size()) {
+      for (size_t i = 0; i < points.size(); ++i) x[i] = points[i].x(), y[i] = points[i].y(), z[i] = points[i].z();
+    }
+  };
+  const Coordinates measured(points);
+  const Coordinates completing(completion ? *completion : std::vector<Eigen::Vector3f>{});
   parallel_rows(cv::Range(0, static_cast<int>(cameras.size())), [&](const cv::Range& range) {
     for (int c = range.start; c < range.end; ++c) {
       const Camera& cam = cameras[c];
       const Grid& g = grids_[c];
       const int rows = g.rays.height, cols = g.rays.width;
       const size_t cells = g.rays.size();
-      // Splat: nearest range per cell.
-      std::vector<float> range_image(cells, 0.f);
       const Eigen::Matrix<float, 3, 4> T =
           (rig_.camera_pose(points_frame, c).inverse() * T_frame_points).matrix().topRows<3>().cast<float>();
-      constexpr size_t kBlock = 1024;
-      float u[kBlock], v[kBlock], rr[kBlock];
-      uint8_t valid[kBlock];
-      for (size_t b = 0; b < n; b += kBlock) {
-        const size_t m = std::min(kBlock, n - b);
-        cloud_internal::project_camera(cam.model, T, x.data() + b, y.data() + b, z.data() + b, m, float(cam.width - 1),
-                                       float(cam.height - 1), u, v, rr, valid);
-        for (size_t i = 0; i < m; ++i) {
-          if (!(valid[i] & 1)) continue;
-          const size_t k = size_t(static_cast<int>(v[i] * g.inv_cell)) * cols + static_cast<int>(u[i] * g.inv_cell);
-          if (range_image[k] == 0.f || rr[i] < range_image[k]) range_image[k] = rr[i];
+      // Splat: nearest range per cell, of the measured and the completing points alike.
+      std::vector<float> range_image(cells, 0.f);
+      const auto splat = [&](const Coordinates& p) {
+        constexpr size_t kBlock = 1024;
+        float u[kBlock], v[kBlock], rr[kBlock];
+        uint8_t valid[kBlock];
+        const size_t n = p.x.size();
+        for (size_t b = 0; b < n; b += kBlock) {
+          const size_t m = std::min(kBlock, n - b);
+          cloud_internal::project_camera(cam.model, T, p.x.data() + b, p.y.data() + b, p.z.data() + b, m,
+                                         float(cam.width - 1), float(cam.height - 1), u, v, rr, valid);
+          for (size_t i = 0; i < m; ++i) {
+            if (!(valid[i] & 1)) continue;
+            const size_t k = size_t(static_cast<int>(v[i] * g.inv_cell)) * cols + static_cast<int>(u[i] * g.inv_cell);
+            if (range_image[k] == 0.f || rr[i] < range_image[k]) range_image[k] = rr[i];
+          }
         }
-      }
+      };
+      splat(measured);
+      splat(completing);
       DepthStats ignored;
       const std::vector<float> filled = fill_gaps(g.rays, range_image, depth, ignored);
       // A cell covers what lies behind it only where its neighbours are as near: at an
@@ -114,8 +126,10 @@ Occlusion CameraRangeImages::occluders(const std::vector<Eigen::Vector3f>& point
 }
 
 Occlusion points_occlusion(const CameraRangeImages& cameras, const std::vector<Eigen::Vector3f>& points,
-                           const std::string& frame, const Pose& T_frame_points, const ViewOcclusionOptions& options) {
-  return cameras.occluders(points, frame, T_frame_points, options.fill, options.tolerance_rel, options.tolerance_m);
+                           const std::string& frame, const Pose& T_frame_points, const ViewOcclusionOptions& options,
+                           const std::vector<Eigen::Vector3f>* completion) {
+  return cameras.occluders(points, frame, T_frame_points, options.fill, options.tolerance_rel, options.tolerance_m,
+                           completion);
 }
 
 Occlusion for_view(const Occlusion& occluders, const MeasuredDepthView& view) {
@@ -126,7 +140,7 @@ Occlusion for_view(const Occlusion& occluders, const MeasuredDepthView& view) {
 
 Occlusion view_occlusion(const CameraRangeImages& cameras, const MeasuredDepthView& view,
                          const std::vector<Eigen::Vector3f>& points, const Pose& T_view_points,
-                         const ViewOcclusionOptions& options) {
+                         const ViewOcclusionOptions& options, const std::vector<Eigen::Vector3f>* completion) {
   const ViewSpec& spec = view.spec();
   const std::string frame = spec.frame.empty() ? cameras.rig().default_frame() : spec.frame;
   // The measured points alone: the view's surface between them is its own gap fill, and
@@ -136,7 +150,8 @@ Occlusion view_occlusion(const CameraRangeImages& cameras, const MeasuredDepthVi
   // golden bird's-eye on one VLP-16 rotation 29.9 -> 31.0 dB without it, on depth images
   // 26.2 -> 27.8 dB, the unseen pixels painted within 1 %. Without it the occluders are the
   // same for every view of the points, and the daemon makes them once per geometry.)
-  return for_view(points_occlusion(cameras, points, frame, spec.T_frame_view() * T_view_points, options), view);
+  return for_view(points_occlusion(cameras, points, frame, spec.T_frame_view() * T_view_points, options, completion),
+                  view);
 }
 
 }  // namespace omniview

@@ -29,9 +29,13 @@ class CameraRangeImages {
   CameraRangeImages(const Rig& rig, double cell_deg);
   // `points` in `points_frame` (a frame of the rig) moved by T_frame_points; non-finite
   // points are skipped. Throws std::invalid_argument when the frame is not connected.
+  // `completion` (optional, same frame): points completing the measured ones
+  // (column_completion.h), in the cameras' range images as measured ones (nearest wins).
+  // (Taken only where the measured ones leave a camera's cells empty, as a view's surface
+  // takes them, the golden bird's-eye view lost 0.9 dB: 29.8 against 30.7 on one rotation.)
   Occlusion occluders(const std::vector<Eigen::Vector3f>& points, const std::string& points_frame,
                       const Pose& T_frame_points, const DepthOptions& depth, float tolerance_rel,
-                      float tolerance_m) const;
+                      float tolerance_m, const std::vector<Eigen::Vector3f>* completion = nullptr) const;
   const Rig& rig() const { return rig_; }
 
  private:
@@ -62,7 +66,8 @@ struct ViewOcclusionOptions {
 // (MeasuredDepthView::occlusion_judged).
 Occlusion view_occlusion(const CameraRangeImages& cameras, const MeasuredDepthView& view,
                          const std::vector<Eigen::Vector3f>& points, const Pose& T_view_points,
-                         const ViewOcclusionOptions& options = {});
+                         const ViewOcclusionOptions& options = {},
+                         const std::vector<Eigen::Vector3f>* completion = nullptr);
 
 // The same in two steps, for several views of one set of points: the cameras' occluders
 // depend on the points alone (in `frame`, a frame of the rig, moved by T_frame_points), so
@@ -70,7 +75,8 @@ Occlusion view_occlusion(const CameraRangeImages& cameras, const MeasuredDepthVi
 // (for_view: a copy with the view's mask).
 Occlusion points_occlusion(const CameraRangeImages& cameras, const std::vector<Eigen::Vector3f>& points,
                            const std::string& frame, const Pose& T_frame_points,
-                           const ViewOcclusionOptions& options = {});
+                           const ViewOcclusionOptions& options = {},
+                           const std::vector<Eigen::Vector3f>* completion = nullptr);
 Occlusion for_view(const Occlusion& occluders, const MeasuredDepthView& view);
 
 }  // namespace omniview

@@ -47,6 +47,7 @@ struct DepthStats {
   size_t splatted_pixels = 0;  // cells that received a sample (nearest wins)
   size_t filled_pixels = 0;    // empty cells filled between two samples
   size_t see_through = 0;      // samples replaced by a nearer surface that covers them
+  size_t completed_pixels = 0; // empty cells given a completing point (column_completion.h)
   // Of the view's pixels:
   size_t measured_pixels = 0;  // pixels on measured depth (splatted or filled)
   size_t blended_pixels = 0;   // pixels in the band where measured depth fades to the fixed surface

@@ -171,7 +171,8 @@ DepthSurface::DepthSurface(const ViewSpec& spec, const DepthOptions& options)
       options_(options) {}
 
 std::shared_ptr<const MeasuredDepthView> DepthSurface::update(const std::vector<Eigen::Vector3f>& points,
-                                                              const Pose& T_view_points, DepthStats* stats) const {
+                                                              const Pose& T_view_points, DepthStats* stats,
+                                                              const std::vector<Eigen::Vector3f>* completion) const {
   DepthStats local;
   DepthStats& s = stats ? *stats : local;
   // The lattice where the points are sparser than the view's pixels (a lidar, depth images
@@ -194,7 +195,20 @@ std::shared_ptr<const MeasuredDepthView> DepthSurface::update(const std::vector<
   }
   if (!use_lattice) splatted = splat_points(*rays_, points, T_view_points, s);
   const ViewRays& cells = use_lattice ? *lattice_.cells : *rays_;
-  const std::vector<float> filled = fill_gaps(cells, splatted, options_, s);
+  std::vector<float> filled = fill_gaps(cells, splatted, options_, s);
+  if (completion && !completion->empty()) {
+    // The completion only where the measured surface left the view empty, then joined to
+    // it: a column behind a sparsely measured object must not break the object's surface
+    // between its rings (a wall's foot behind the crate did, golden front view -1.6 dB).
+    DepthStats ignored;
+    const std::vector<float> completed = splat_points(cells, *completion, T_view_points, ignored);
+    size_t taken = 0;
+    for (size_t i = 0; i < filled.size(); ++i) {
+      if (filled[i] == 0.f && completed[i] > 0.f) filled[i] = completed[i], ++taken;
+    }
+    if (taken > 0) filled = fill_gaps(cells, filled, options_, s);
+    s.completed_pixels += taken;
+  }
   BlendedSurface surface = blend_with_fixed(cells, filled, options_);
   std::vector<uint8_t> sampled(splatted.size());
   for (size_t i = 0; i < sampled.size(); ++i) sampled[i] = splatted[i] > 0.f && filled[i] == splatted[i];

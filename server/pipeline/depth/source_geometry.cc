@@ -15,7 +15,7 @@ void SourceGeometry::add(const std::vector<const PointCloud*>& clouds, const Rig
                          std::chrono::steady_clock::time_point arrival) {
   bool added = false;
   for (const PointCloud* cloud : clouds) added = take(*cloud, rig) || added;
-  if (added) rebuild(rig.default_frame(), motion, arrival);
+  if (added) rebuild(rig, motion, arrival);
 }
 
 bool SourceGeometry::take(const PointCloud& cloud, const Rig& rig) {
@@ -35,9 +35,13 @@ bool SourceGeometry::take(const PointCloud& cloud, const Rig& rig) {
     const Eigen::Matrix3f R = T_robot_cloud->linear().cast<float>();
     const Eigen::Vector3f t = T_robot_cloud->translation().cast<float>();
     entry.points.reserve(cloud.points.size());
+    std::vector<Eigen::Vector3f> finite;  // in the cloud's own frame, for its top ring
+    finite.reserve(cloud.points.size());
     for (const auto& p : cloud.points) {
-      if (p.allFinite()) entry.points.push_back(R * p + t);
+      if (p.allFinite()) entry.points.push_back(R * p + t), finite.push_back(p);
     }
+    if (!from_camera) entry.lidar = lidar_origin(rig, cloud.frame);
+    if (entry.lidar) entry.top = top_of_field(finite);
   }
   std::lock_guard lock(mutex_);
   if (!T_robot_cloud || entry.points.empty()) {
@@ -52,8 +56,7 @@ bool SourceGeometry::take(const PointCloud& cloud, const Rig& rig) {
   return true;
 }
 
-void SourceGeometry::rebuild(const std::string& robot_frame, const Trajectory* motion,
-                             std::chrono::steady_clock::time_point arrival) {
+void SourceGeometry::rebuild(const Rig& rig, const Trajectory* motion, std::chrono::steady_clock::time_point arrival) {
   std::lock_guard lock(mutex_);
   // Age out by capture time behind the newest, then keep within the point budget.
   auto newest = clouds_.back().stamp;
@@ -70,6 +73,9 @@ void SourceGeometry::rebuild(const std::string& robot_frame, const Trajectory* m
   // the two; none known: the robot is taken to be still).
   auto points = std::make_shared<std::vector<Eigen::Vector3f>>();
   points->reserve(std::min(total, options_.max_points));
+  std::vector<uint8_t> top;  // empty while no cloud told its top ring
+  std::optional<Eigen::Vector3f> lidar;  // the newest lidar cloud's, moved to now
+  auto newest_lidar = std::chrono::system_clock::time_point::min();
   for (const auto& c : clouds_) {
     const Pose T_now_then = motion ? motion->relative(newest, c.stamp) : Pose::Identity();
     const Eigen::Matrix3f R = T_now_then.linear().cast<float>();
@@ -78,12 +84,18 @@ void SourceGeometry::rebuild(const std::string& robot_frame, const Trajectory* m
     const size_t step = c.points.size() > options_.max_points
                             ? (c.points.size() + options_.max_points - 1) / options_.max_points
                             : 1;
-    for (size_t i = 0; i < c.points.size(); i += step) points->push_back(R * c.points[i] + t);
+    if (!c.top.empty() && top.empty()) top.assign(points->size(), 0);
+    for (size_t i = 0; i < c.points.size(); i += step) {
+      points->push_back(R * c.points[i] + t);
+      if (!top.empty()) top.push_back(c.top.empty() ? 0 : c.top[i]);
+    }
+    if (c.lidar && c.stamp >= newest_lidar) lidar = R * *c.lidar + t, newest_lidar = c.stamp;
   }
   GeometrySnapshot snapshot;
   snapshot.version = ++version_;
+  snapshot.completion = std::make_shared<const Completion>(complete_columns(rig, *points, top, lidar));
   snapshot.points = std::move(points);
-  snapshot.frame = robot_frame;
+  snapshot.frame = rig.default_frame();
   snapshot.stamp = newest;
   snapshot.arrival = arrival;
   snapshot.clouds = clouds_.size();
@@ -133,7 +145,8 @@ std::shared_ptr<const Occlusion> SourceGeometry::occluders(const GeometrySnapsho
                                   rig->default_frame() + "'");
     }
     occluders_ = std::make_shared<const Occlusion>(
-        points_occlusion(*cameras, *snapshot.points, rig->default_frame(), *T_robot_points, options));
+        points_occlusion(*cameras, *snapshot.points, rig->default_frame(), *T_robot_points, options,
+                         snapshot.completion ? &snapshot.completion->points : nullptr));
     occluders_version_ = snapshot.version;
     occluders_rig_ = rig;
   }

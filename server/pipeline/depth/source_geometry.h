@@ -22,6 +22,7 @@
 #include "core/cloud/point_cloud.h"
 #include "core/cloud/trajectory.h"
 #include "core/depth/camera_occluders.h"
+#include "core/depth/column_completion.h"
 #include "core/rig/rig.h"
 
 namespace omniview {
@@ -42,6 +43,9 @@ struct GeometryOptions {
 struct GeometrySnapshot {
   uint64_t version = 0;  // increases with every cloud added
   std::shared_ptr<const std::vector<Eigen::Vector3f>> points;  // in `frame`, finite
+  // What completes them where a sensor's field cut objects short (columns down to the
+  // ground and past a lidar's top ring: core/depth/column_completion.h), in `frame`.
+  std::shared_ptr<const Completion> completion;
   std::string frame;                                           // the rig's default (robot) frame
   std::chrono::system_clock::time_point stamp;                 // the newest cloud's capture time
   std::chrono::steady_clock::time_point arrival;               // when the daemon had it
@@ -82,9 +86,11 @@ class SourceGeometry {
     std::chrono::system_clock::time_point stamp;
     std::chrono::milliseconds keep;
     std::vector<Eigen::Vector3f> points;  // in the robot frame at `stamp`
+    std::vector<uint8_t> top;             // per point: on the lidar's top ring (empty: none told)
+    std::optional<Eigen::Vector3f> lidar; // the lidar's place in the robot frame at `stamp`
   };
   bool take(const PointCloud& cloud, const Rig& rig);  // false: skipped
-  void rebuild(const std::string& robot_frame, const Trajectory* motion, std::chrono::steady_clock::time_point arrival);
+  void rebuild(const Rig& rig, const Trajectory* motion, std::chrono::steady_clock::time_point arrival);
 
   const GeometryOptions options_;
   mutable std::mutex mutex_;

@@ -1,0 +1,136 @@
+#include "core/depth/column_completion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace omniview {
+namespace {
+
+struct Column {
+  float z_min = 0, z_max = 0;
+  Eigen::Vector2f xy_low{0, 0}, xy_high{0, 0};  // where its lowest and highest points stand
+  bool open_top = false;
+  bool any = false;
+};
+
+uint64_t cell_key(float x, float y, float inv_cell) {
+  const auto ix = static_cast<int32_t>(std::floor(x * inv_cell));
+  const auto iy = static_cast<int32_t>(std::floor(y * inv_cell));
+  return (uint64_t(uint32_t(ix)) << 32) | uint32_t(iy);
+}
+
+}  // namespace
+
+std::optional<float> estimate_ground_z(const std::vector<Eigen::Vector3f>& points, float below_z, float min_share) {
+  constexpr float kSlice = 0.02f;
+  std::unordered_map<int32_t, size_t> slices;
+  size_t below = 0;
+  for (const auto& p : points) {
+    if (!p.allFinite() || !(p.z() < below_z)) continue;
+    ++slices[static_cast<int32_t>(std::floor(p.z() / kSlice))];
+    ++below;
+  }
+  if (below == 0) return std::nullopt;
+  // The fullest slice; a floor seen at a slant spreads over two, so their pair counts.
+  int32_t best = 0;
+  size_t best_count = 0;
+  for (const auto& [slice, count] : slices) {
+    const auto next = slices.find(slice + 1);
+    const size_t pair = count + (next == slices.end() ? 0 : next->second);
+    if (pair > best_count || (pair == best_count && slice < best)) best = slice, best_count = pair;
+  }
+  if (double(best_count) < double(min_share) * double(below)) return std::nullopt;
+  double sum = 0;  // the mean height of the pair's points
+  for (const auto& p : points) {
+    if (!p.allFinite() || !(p.z() < below_z)) continue;
+    const auto slice = static_cast<int32_t>(std::floor(p.z() / kSlice));
+    if (slice == best || slice == best + 1) sum += p.z();
+  }
+  return float(sum / double(best_count));
+}
+
+std::vector<uint8_t> top_of_field(const std::vector<Eigen::Vector3f>& points, float tolerance_deg,
+                                  float lowest_top_deg) {
+  std::vector<float> elevation(points.size(), -INFINITY);
+  float highest = -INFINITY;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    if (!p.allFinite()) continue;
+    elevation[i] = std::atan2(p.z(), std::hypot(p.x(), p.y()));
+    highest = std::max(highest, elevation[i]);
+  }
+  std::vector<uint8_t> top(points.size(), 0);
+  if (!(highest >= lowest_top_deg * float(M_PI / 180))) return top;  // the top rings saw the sky
+  const float threshold = highest - tolerance_deg * float(M_PI / 180);
+  for (size_t i = 0; i < points.size(); ++i) top[i] = elevation[i] >= threshold && std::isfinite(elevation[i]);
+  return top;
+}
+
+std::vector<Eigen::Vector3f> column_points(const std::vector<Eigen::Vector3f>& points,
+                                           const std::vector<uint8_t>& open_top, float ground_z,
+                                           const ColumnOptions& options, ColumnStats* stats,
+                                           const std::optional<Eigen::Vector3f>& sensor) {
+  const float inv_cell = 1.f / options.cell_m;
+  const float above = ground_z + options.ground_band_m;
+  std::unordered_map<uint64_t, Column> columns;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3f& p = points[i];
+    if (!p.allFinite() || !(p.z() > above)) continue;
+    Column& c = columns[cell_key(p.x(), p.y(), inv_cell)];
+    const bool top = !open_top.empty() && open_top[i];
+    if (!c.any || p.z() < c.z_min) c.z_min = p.z(), c.xy_low = p.head<2>();
+    if (!c.any || p.z() > c.z_max) c.z_max = p.z(), c.xy_high = p.head<2>(), c.open_top = top;
+    else if (p.z() == c.z_max) c.open_top = c.open_top || top;
+    c.any = true;
+  }
+  std::vector<Eigen::Vector3f> added;
+  ColumnStats s;
+  s.columns = columns.size();
+  const float ceiling = ground_z + options.max_height_m;
+  for (const auto& [key, c] : columns) {
+    // Down to the ground (the ground itself included: the object's foot).
+    for (float z = c.z_min - options.step_m; z > ground_z - 0.5f * options.step_m; z -= options.step_m) {
+      added.emplace_back(c.xy_low.x(), c.xy_low.y(), std::max(z, ground_z));
+    }
+    if (c.open_top && sensor) {
+      ++s.open_tops;
+      const float d = (c.xy_high - sensor->head<2>()).norm();
+      const float elevation = std::atan2(c.z_max - sensor->z(), d) + options.open_top_deg * float(M_PI / 180);
+      const float top = std::min(sensor->z() + d * std::tan(std::min(elevation, float(M_PI / 2.5))), ceiling);
+      for (float z = c.z_max + options.step_m; z <= top; z += options.step_m) {
+        added.emplace_back(c.xy_high.x(), c.xy_high.y(), z);
+      }
+    }
+  }
+  s.added = added.size();
+  if (stats) *stats = s;
+  return added;
+}
+
+std::optional<Eigen::Vector3f> lidar_origin(const Rig& rig, const std::string& frame) {
+  if (frame == rig.default_frame()) return std::nullopt;
+  for (const Camera& camera : rig.cameras()) {
+    if (camera.name == frame) return std::nullopt;
+  }
+  const auto T_robot_frame = rig.frames().try_lookup(rig.default_frame(), frame);
+  // A sensor rides on the robot: a frame farther out is a world frame (odom, a map).
+  constexpr double kOnTheRobotM = 5.0;
+  if (!T_robot_frame || T_robot_frame->translation().norm() > kOnTheRobotM) return std::nullopt;
+  return T_robot_frame->translation().cast<float>();
+}
+
+Completion complete_columns(const Rig& rig, const std::vector<Eigen::Vector3f>& points,
+                            const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
+                            const ColumnOptions& options) {
+  float sensors_z = lidar ? lidar->z() : INFINITY;
+  for (size_t i = 0; i < rig.cameras().size(); ++i) {
+    sensors_z = std::min(sensors_z, float(rig.camera_pose(rig.default_frame(), i).translation().z()));
+  }
+  Completion c;
+  c.ground_z = estimate_ground_z(points, sensors_z);
+  if (c.ground_z) c.points = column_points(points, open_top, *c.ground_z, options, &c.stats, lidar);
+  return c;
+}
+
+}  // namespace omniview

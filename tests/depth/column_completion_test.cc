@@ -1,0 +1,195 @@
+// Columns that complete measured geometry (core/depth/column_completion.h): the ground
+// found, a lidar's top ring told, objects' sides carried down to the floor and a little past
+// the top ring, and a view's surface taking them only where nothing was measured.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "cloud_scene.h"
+#include "core/depth/column_completion.h"
+#include "core/depth/measured_depth_view.h"
+
+namespace omniview {
+namespace {
+
+constexpr float kGround = -0.5f;
+
+// A VLP-16 at `origin` (level) scanning: the floor at kGround and a vertical wall x = wall_x
+// from the floor up to wall_top; each ring every 0.5 deg of azimuth over +-40 deg.
+struct Scan {
+  std::vector<Eigen::Vector3f> in_sensor;  // as the sensor reports them
+  std::vector<Eigen::Vector3f> in_robot;
+};
+Scan scan(const Eigen::Vector3f& origin, float wall_x, float wall_top) {
+  Scan s;
+  for (int ring = 0; ring < 16; ++ring) {
+    const float el = (-15.f + 2.f * ring) * float(M_PI / 180);
+    for (float az = -40; az <= 40; az += 0.5f) {
+      const float a = az * float(M_PI / 180);
+      const Eigen::Vector3f dir(std::cos(el) * std::cos(a), std::cos(el) * std::sin(a), std::sin(el));
+      float t = (wall_x - origin.x()) / dir.x();  // the wall
+      Eigen::Vector3f p = origin + t * dir;
+      if (p.z() < kGround || p.z() > wall_top) {
+        if (dir.z() >= 0) continue;  // over the wall: nothing (open sky)
+        t = (kGround - origin.z()) / dir.z();  // the floor before the wall
+        p = origin + t * dir;
+        if (p.x() > wall_x) continue;
+      }
+      s.in_robot.push_back(p);
+      s.in_sensor.push_back(p - origin);
+    }
+  }
+  return s;
+}
+
+TEST(ColumnCompletion, TheGroundIsTheFullestSliceBelowTheSensors) {
+  const Scan s = scan({0, 0, 0.3f}, 3.f, 2.f);
+  const auto ground = estimate_ground_z(s.in_robot, 0.3f);
+  ASSERT_TRUE(ground.has_value());
+  EXPECT_NEAR(*ground, kGround, 0.02);
+  // A wall alone spreads over every slice: no ground.
+  const Scan high = scan({0, 0, 0.3f}, 1.f, 5.f);
+  std::vector<Eigen::Vector3f> wall;
+  std::copy_if(high.in_robot.begin(), high.in_robot.end(), std::back_inserter(wall),
+               [](const Eigen::Vector3f& p) { return p.x() > 0.99f; });
+  EXPECT_FALSE(estimate_ground_z(wall, 1.f, 0.2f).has_value());
+  EXPECT_FALSE(estimate_ground_z({}, 0.3f).has_value());
+}
+
+TEST(ColumnCompletion, TheTopOfTheFieldIsTheHighestRing) {
+  const Scan s = scan({0, 0, 0.3f}, 3.f, 5.f);
+  const std::vector<uint8_t> top = top_of_field(s.in_sensor);
+  ASSERT_EQ(top.size(), s.in_sensor.size());
+  size_t flagged = 0;
+  for (size_t i = 0; i < top.size(); ++i) {
+    const float el = std::atan2(s.in_sensor[i].z(), s.in_sensor[i].head<2>().norm()) * float(180 / M_PI);
+    if (top[i]) {
+      ++flagged;
+      EXPECT_NEAR(el, 15.f, 0.1f);
+    } else {
+      EXPECT_LT(el, 14.f);
+    }
+  }
+  EXPECT_GT(flagged, 100u);
+  std::vector<Eigen::Vector3f> with_nan = s.in_sensor;
+  with_nan.push_back(Eigen::Vector3f::Constant(NAN));
+  EXPECT_EQ(top_of_field(with_nan).back(), 0);
+}
+
+// Per column of the wall, the added points' heights.
+std::pair<float, float> added_heights(const std::vector<Eigen::Vector3f>& added) {
+  float low = INFINITY, high = -INFINITY;
+  for (const auto& p : added) low = std::min(low, p.z()), high = std::max(high, p.z());
+  return {low, high};
+}
+
+TEST(ColumnCompletion, AWallCutByTheRingsGoesDownToTheFloorAndALittlePastTheTopRing) {
+  const Eigen::Vector3f lidar(0, 0, 0.3f);
+  // Taller than the top ring reaches (0.3 + 2 tan 15 = 0.84), at the middle of a row of 5 cm
+  // cells (a wall on a cell border has half its cells without a top-ring point).
+  const Scan s = scan(lidar, 2.025f, 5.f);
+  ColumnStats stats;
+  const auto added = column_points(s.in_robot, top_of_field(s.in_sensor), kGround, {}, &stats, lidar);
+  ASSERT_FALSE(added.empty());
+  EXPECT_GT(stats.columns, 20u);
+  EXPECT_GE(stats.open_tops, stats.columns * 9 / 10);  // the wall's columns reach the top ring
+  for (const auto& p : added) EXPECT_NEAR(p.x(), 2.025f, 1e-3);
+  const auto [low, high] = added_heights(added);
+  EXPECT_NEAR(low, kGround, 1e-3);
+  // 8 deg past the top ring as the lidar sees it: straight ahead at 2 m, and no higher than
+  // that at the scan's far end (40 deg aside, 2.6 m).
+  std::vector<Eigen::Vector3f> ahead;
+  std::copy_if(added.begin(), added.end(), std::back_inserter(ahead),
+               [](const Eigen::Vector3f& p) { return std::abs(p.y()) < 0.05f; });
+  const float past_top = 23.f * float(M_PI / 180);
+  EXPECT_NEAR(added_heights(ahead).second, lidar.z() + 2.025f * std::tan(past_top), 0.06f);
+  EXPECT_LT(high, lidar.z() + 2.025f / std::cos(40.f * float(M_PI / 180)) * std::tan(past_top) + 0.06f);
+  // Not a lidar's (no sensor known, no top told): down to the floor only.
+  const auto down_only = column_points(s.in_robot, {}, kGround);
+  const auto [low2, high2] = added_heights(down_only);
+  EXPECT_NEAR(low2, kGround, 1e-3);
+  EXPECT_LT(high2, lidar.z() + 2.025f * std::tan(15.f * float(M_PI / 180)));  // below the top ring
+  // A storey at most.
+  ColumnOptions low_ceiling;
+  low_ceiling.max_height_m = 1.f;
+  const auto capped = column_points(s.in_robot, top_of_field(s.in_sensor), kGround, low_ceiling, nullptr, lidar);
+  EXPECT_LE(added_heights(capped).second, kGround + 1.f + 1e-3f);
+}
+
+TEST(ColumnCompletion, AnObjectTheTopRingPassesOverHasNoOpenTopAndTheFloorNoColumn) {
+  const Eigen::Vector3f lidar(0, 0, 0.3f);
+  // A low wall 6 m out, the floor before it: the rings from -1 deg up see the sky.
+  const Scan s = scan(lidar, 6.f, 0.2f);
+  ASSERT_TRUE(std::any_of(s.in_robot.begin(), s.in_robot.end(), [](const Eigen::Vector3f& p) { return p.x() < 5.f; }));
+  ColumnStats stats;
+  const auto added = column_points(s.in_robot, top_of_field(s.in_sensor), kGround, {}, &stats, lidar);
+  EXPECT_GT(stats.columns, 20u);
+  EXPECT_EQ(stats.open_tops, 0u);
+  for (const auto& p : added) EXPECT_NEAR(p.x(), 6.f, 1e-3);  // the floor before it makes none
+  EXPECT_LT(added_heights(added).second, 0.2f);
+  // Non-finite points are skipped.
+  std::vector<Eigen::Vector3f> bad = {Eigen::Vector3f::Constant(NAN), Eigen::Vector3f(1, 0, INFINITY)};
+  EXPECT_TRUE(column_points(bad, {1, 1}, kGround).empty());
+}
+
+TEST(ColumnCompletion, OnlyALidarFrameOnTheRobotTellsItsTopRing) {
+  const auto rig = test::rig_in_world(Pose::Identity());
+  const auto lidar = lidar_origin(*rig, "lidar");
+  ASSERT_TRUE(lidar.has_value());
+  EXPECT_TRUE(lidar->isApprox(rig->frames().lookup(rig->default_frame(), "lidar").translation().cast<float>()));
+  EXPECT_FALSE(lidar_origin(*rig, rig->default_frame()).has_value());
+  EXPECT_FALSE(lidar_origin(*rig, rig->cameras().front().name).has_value());  // a depth camera's points
+  EXPECT_FALSE(lidar_origin(*rig, "no such frame").has_value());
+  auto far = test::rig_in_world(make_pose(Vec3(20, 0, 0), 0, 0, 0));
+  EXPECT_FALSE(lidar_origin(*far, "world").has_value());  // a world frame, not a sensor
+}
+
+// A view's surface takes the columns only where the measured points left it empty: a wall's
+// foot behind a sparsely measured near object must not break the object between its rings.
+TEST(ColumnCompletion, TheViewTakesColumnsOnlyWhereNothingWasMeasured) {
+  ViewSpec spec;
+  spec.name = "p";
+  spec.type = ViewType::kPerspective;
+  spec.width = 200;
+  spec.height = 100;
+  spec.hfov_deg = 90;
+  spec.distance = 5;
+  spec.depth = Depth::kMeasured;
+  const DepthSurface surface(spec);
+  // Near: rings of a wall at 1 m, 2 deg apart (the view frame is the lidar's).
+  const Scan near = scan({0, 0, 0}, 1.f, 10.f);
+  std::vector<Eigen::Vector3f> measured;
+  std::copy_if(near.in_robot.begin(), near.in_robot.end(), std::back_inserter(measured),
+               [](const Eigen::Vector3f& p) { return p.x() < 1.01f; });
+  // Far: a dense column field at 4 m behind it, and over the whole view.
+  std::vector<Eigen::Vector3f> far;
+  for (float y = -4; y <= 4; y += 0.02f) {
+    for (float z = -4; z <= 4; z += 0.02f) far.emplace_back(4.f, y, z);
+  }
+  DepthStats stats;
+  const auto view = surface.update(measured, Pose::Identity(), &stats, &far);
+  EXPECT_GT(stats.completed_pixels, 0u);
+  int near_pixels = 0, far_pixels = 0;
+  for (int v = 0; v < spec.height; ++v) {
+    for (int u = 0; u < spec.width; ++u) {
+      Vec3 dir;
+      ASSERT_TRUE(view->pixel_to_direction(u, v, dir));
+      const double el = std::asin(dir.z() / dir.norm()) * 180 / M_PI;
+      const float range = view->range_at(u, v);
+      if (std::abs(std::atan2(dir.y(), dir.x())) > 38 * M_PI / 180) continue;  // past the scan's +-40 deg
+      if (std::abs(el) < 14) {  // between the near wall's rings: the near wall
+        EXPECT_NEAR(range * dir.x() / dir.norm(), 1.0, 0.02) << u << "," << v;
+        ++near_pixels;
+      } else if (std::abs(el) > 17) {  // past its rings: the columns
+        EXPECT_NEAR(range * dir.x() / dir.norm(), 4.0, 0.05) << u << "," << v;
+        ++far_pixels;
+      }
+    }
+  }
+  EXPECT_GT(near_pixels, 1000);
+  EXPECT_GT(far_pixels, 1000);
+}
+
+}  // namespace
+}  // namespace omniview
