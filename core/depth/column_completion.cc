@@ -14,6 +14,10 @@ struct Column {
   bool any = false;
 };
 
+// Points farther out are no lidar's or depth camera's (and would overflow the cell indices).
+constexpr float kFarthestM = 1000.f;
+bool usable(const Eigen::Vector3f& p) { return p.allFinite() && p.cwiseAbs().maxCoeff() < kFarthestM; }
+
 uint64_t cell_key(float x, float y, float inv_cell) {
   const auto ix = static_cast<int32_t>(std::floor(x * inv_cell));
   const auto iy = static_cast<int32_t>(std::floor(y * inv_cell));
@@ -27,7 +31,7 @@ std::optional<float> estimate_ground_z(const std::vector<Eigen::Vector3f>& point
   std::unordered_map<int32_t, size_t> slices;
   size_t below = 0;
   for (const auto& p : points) {
-    if (!p.allFinite() || !(p.z() < below_z)) continue;
+    if (!usable(p) || !(p.z() < below_z)) continue;
     ++slices[static_cast<int32_t>(std::floor(p.z() / kSlice))];
     ++below;
   }
@@ -43,7 +47,7 @@ std::optional<float> estimate_ground_z(const std::vector<Eigen::Vector3f>& point
   if (double(best_count) < double(min_share) * double(below)) return std::nullopt;
   double sum = 0;  // the mean height of the pair's points
   for (const auto& p : points) {
-    if (!p.allFinite() || !(p.z() < below_z)) continue;
+    if (!usable(p) || !(p.z() < below_z)) continue;
     const auto slice = static_cast<int32_t>(std::floor(p.z() / kSlice));
     if (slice == best || slice == best + 1) sum += p.z();
   }
@@ -76,7 +80,7 @@ std::vector<Eigen::Vector3f> column_points(const std::vector<Eigen::Vector3f>& p
   std::unordered_map<uint64_t, Column> columns;
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f& p = points[i];
-    if (!p.allFinite() || !(p.z() > above)) continue;
+    if (!usable(p) || !(p.z() > above)) continue;
     Column& c = columns[cell_key(p.x(), p.y(), inv_cell)];
     const bool top = !open_top.empty() && open_top[i];
     if (!c.any || p.z() < c.z_min) c.z_min = p.z(), c.xy_low = p.head<2>();

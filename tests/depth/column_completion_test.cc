@@ -128,9 +128,11 @@ TEST(ColumnCompletion, AnObjectTheTopRingPassesOverHasNoOpenTopAndTheFloorNoColu
   EXPECT_EQ(stats.open_tops, 0u);
   for (const auto& p : added) EXPECT_NEAR(p.x(), 6.f, 1e-3);  // the floor before it makes none
   EXPECT_LT(added_heights(added).second, 0.2f);
-  // Non-finite points are skipped.
-  std::vector<Eigen::Vector3f> bad = {Eigen::Vector3f::Constant(NAN), Eigen::Vector3f(1, 0, INFINITY)};
-  EXPECT_TRUE(column_points(bad, {1, 1}, kGround).empty());
+  // Non-finite and absurdly far points are skipped.
+  const std::vector<Eigen::Vector3f> bad = {Eigen::Vector3f::Constant(NAN), Eigen::Vector3f(1, 0, INFINITY),
+                                            Eigen::Vector3f(1e30f, 0, 1), Eigen::Vector3f(1, 1, -1e30f)};
+  EXPECT_TRUE(column_points(bad, {1, 1, 1, 1}, kGround).empty());
+  EXPECT_FALSE(estimate_ground_z(bad, 0.3f).has_value());
 }
 
 TEST(ColumnCompletion, OnlyALidarFrameOnTheRobotTellsItsTopRing) {
