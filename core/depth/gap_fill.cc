@@ -33,7 +33,7 @@ inline void nearest_after(const float* range, size_t step, int count, int reach,
 
 // One pass: each empty pixel from the samples of `range` on either side of it.
 std::vector<float> fill_once(const ViewRays& rays, const std::vector<float>& range, const DepthOptions& options,
-                             DepthStats& stats) {
+                             DepthStats& stats, const std::vector<uint8_t>* fillable) {
   const int w = rays.width, h = rays.height;
   const int reach = std::clamp(static_cast<int>(std::ceil(options.max_gap_deg * M_PI / 180 / rays.pixel_rad)), 1,
                                std::min(30000, std::max(w, h)));
@@ -112,9 +112,11 @@ std::vector<float> fill_once(const ViewRays& rays, const std::vector<float>& ran
       // field, or the sky): pick the pixels that do in one branch-free sweep of the row.
       const size_t row = size_t(v) * w;
       int n = 0;
+      const uint8_t* may = fillable ? fillable->data() + row : nullptr;
       for (int u = 0; u < w; ++u) {
         candidates[n] = u;
-        n += (left[row + u] | right[row + u] | up[row + u] | down[row + u]) != 0 && rays.valid[row + u];
+        n += (left[row + u] | right[row + u] | up[row + u] | down[row + u]) != 0 && rays.valid[row + u] &&
+             (!may || may[u]);
       }
       for (int k = 0; k < n; ++k) {
         const int u = candidates[k];
@@ -173,8 +175,8 @@ std::vector<float> fill_once(const ViewRays& rays, const std::vector<float>& ran
 // through those filled rows (one pass left such columns to the fixed surface: vertical
 // streaks across a wall 3 m away on spot-mock, tests/spot/depth_view_test.cc).
 std::vector<float> fill_gaps(const ViewRays& rays, const std::vector<float>& range, const DepthOptions& options,
-                             DepthStats& stats) {
-  return fill_once(rays, fill_once(rays, range, options, stats), options, stats);
+                             DepthStats& stats, const std::vector<uint8_t>* fillable) {
+  return fill_once(rays, fill_once(rays, range, options, stats, fillable), options, stats, fillable);
 }
 
 }  // namespace omniview

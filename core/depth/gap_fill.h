@@ -8,6 +8,7 @@
 // along themselves are then joined to each other (gap_fill.cc).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "core/depth/depth_options.h"
@@ -16,8 +17,9 @@
 namespace omniview {
 
 // `range`: per pixel, 0 for none (splat_points). Returns the filled ranges; counts
-// filled_pixels and see_through.
+// filled_pixels and see_through. `fillable` (optional, per pixel): only pixels marked 1 are
+// filled or replaced, the rest stay as they are (and still serve as samples).
 std::vector<float> fill_gaps(const ViewRays& rays, const std::vector<float>& range, const DepthOptions& options,
-                             DepthStats& stats);
+                             DepthStats& stats, const std::vector<uint8_t>* fillable = nullptr);
 
 }  // namespace omniview

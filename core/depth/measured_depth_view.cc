@@ -200,13 +200,16 @@ std::shared_ptr<const MeasuredDepthView> DepthSurface::update(const std::vector<
     // The completion only where the measured surface left the view empty, then joined to
     // it: a column behind a sparsely measured object must not break the object's surface
     // between its rings (a wall's foot behind the crate did, golden front view -1.6 dB).
+    // The second fill touches only what the measured surface left empty.
     DepthStats ignored;
     const std::vector<float> completed = splat_points(cells, *completion, T_view_points, ignored);
+    std::vector<uint8_t> empty(filled.size());
     size_t taken = 0;
     for (size_t i = 0; i < filled.size(); ++i) {
-      if (filled[i] == 0.f && completed[i] > 0.f) filled[i] = completed[i], ++taken;
+      empty[i] = filled[i] == 0.f;
+      if (empty[i] && completed[i] > 0.f) filled[i] = completed[i], ++taken;
     }
-    if (taken > 0) filled = fill_gaps(cells, filled, options_, s);
+    if (taken > 0) filled = fill_gaps(cells, filled, options_, s, &empty);
     s.completed_pixels += taken;
   }
   BlendedSurface surface = blend_with_fixed(cells, filled, options_);

@@ -80,7 +80,8 @@ class DepthSurface {
   // `points` in some frame P; T_view_points places P in the view frame. Non-finite points
   // are skipped and counted in `stats` (optional). No points: the fixed surface.
   // `completion` (optional, in the same frame): points that complete the measured ones
-  // (column_completion.h), taken only where the measured surface leaves the view empty.
+  // (column_completion.h), taken only where the measured surface leaves the view empty and
+  // joined there (the measured surface stays as the points alone make it).
   std::shared_ptr<const MeasuredDepthView> update(const std::vector<Eigen::Vector3f>& points,
                                                   const Pose& T_view_points, DepthStats* stats = nullptr,
                                                   const std::vector<Eigen::Vector3f>* completion = nullptr) const;

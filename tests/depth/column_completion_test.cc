@@ -191,6 +191,17 @@ TEST(ColumnCompletion, TheViewTakesColumnsOnlyWhereNothingWasMeasured) {
   }
   EXPECT_GT(near_pixels, 1000);
   EXPECT_GT(far_pixels, 1000);
+  // Wherever the measured points alone made a surface, the columns leave it as it was.
+  const auto alone = surface.update(measured, Pose::Identity());
+  int compared = 0;
+  for (int v = 0; v < spec.height; ++v) {
+    for (int u = 0; u < spec.width; ++u) {
+      if (alone->measured_at(u, v) < 255) continue;
+      EXPECT_EQ(view->range_at(u, v), alone->range_at(u, v)) << u << "," << v;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 1000);
 }
 
 }  // namespace
