@@ -174,5 +174,49 @@ TEST_F(Geometry, ADepthCamerasPointsAreInItsOpticalFrame) {
   EXPECT_LT((geometry.latest()->points->at(0).cast<double>() - expected).norm(), 1e-5);
 }
 
+// The geometry is completed by columns (core/depth/column_completion.h): a lidar's cloud in
+// its own frame tells its top ring, so a wall it cut short goes on a little past it; the
+// same points in the robot frame (no sensor known) are carried down to the floor only.
+TEST_F(Geometry, ALidarsCloudIsCompletedByColumnsPastItsTopRing) {
+  Rig with_lidar = rig;
+  const Pose T_body_lidar = make_pose(Vec3(-0.1, 0, 0.3), 0, 0, 0);
+  with_lidar.add_frame("lidar", body, T_body_lidar);
+  // A VLP-16's rings (-15..+15 deg, every 2) over +-40 deg: the floor 0.8 m below the
+  // lidar, a wall 3 m ahead of it.
+  PointCloud cloud;
+  cloud.frame = "lidar";
+  cloud.stamp = kT0;
+  for (int ring = 0; ring < 16; ++ring) {
+    const double el = (-15.0 + 2 * ring) * M_PI / 180;
+    for (double az = -40; az <= 40; az += 0.5) {
+      const Vec3 dir(std::cos(el) * std::cos(az * M_PI / 180), std::cos(el) * std::sin(az * M_PI / 180), std::sin(el));
+      const double to_wall = 3 / dir.x(), to_floor = dir.z() < 0 ? -0.8 / dir.z() : INFINITY;
+      cloud.points.push_back((std::min(to_wall, to_floor) * dir).cast<float>());
+    }
+  }
+  SourceGeometry geometry;
+  geometry.add(cloud, with_lidar, nullptr, arrival);
+  const auto snapshot = geometry.latest();
+  ASSERT_TRUE(snapshot && snapshot->completion);
+  const Completion& completion = *snapshot->completion;
+  ASSERT_TRUE(completion.ground_z.has_value());
+  EXPECT_NEAR(*completion.ground_z, -0.5, 0.01);  // in the body frame
+  EXPECT_GT(completion.stats.open_tops, 10u);
+  float highest = -INFINITY;
+  for (const auto& p : completion.points) highest = std::max(highest, p.z());
+  const float top_ring = 0.3f + 3 * std::tan(15 * float(M_PI / 180));  // straight ahead
+  EXPECT_GT(highest, top_ring + 0.2f);
+
+  // The same points delivered in the robot frame: columns, but none past the top.
+  PointCloud in_body = cloud;
+  in_body.frame = body;
+  for (auto& p : in_body.points) p = (T_body_lidar * p.cast<double>()).cast<float>();
+  SourceGeometry unknown_sensor;
+  unknown_sensor.add(in_body, with_lidar, nullptr, arrival);
+  const Completion& down_only = *unknown_sensor.latest()->completion;
+  EXPECT_GT(down_only.stats.columns, 10u);
+  EXPECT_EQ(down_only.stats.open_tops, 0u);
+}
+
 }  // namespace
 }  // namespace omniview

@@ -73,7 +73,10 @@ void SourceGeometry::rebuild(const Rig& rig, const Trajectory* motion, std::chro
   // the two; none known: the robot is taken to be still).
   auto points = std::make_shared<std::vector<Eigen::Vector3f>>();
   points->reserve(std::min(total, options_.max_points));
-  std::vector<uint8_t> top;  // empty while no cloud told its top ring
+  // Per point: on a lidar's top ring; empty when no cloud told its top ring.
+  const bool told = std::any_of(clouds_.begin(), clouds_.end(), [](const Cloud& c) { return !c.top.empty(); });
+  std::vector<uint8_t> top;
+  if (told) top.reserve(points->capacity());
   std::optional<Eigen::Vector3f> lidar;  // the newest lidar cloud's, moved to now
   auto newest_lidar = std::chrono::system_clock::time_point::min();
   for (const auto& c : clouds_) {
@@ -84,10 +87,9 @@ void SourceGeometry::rebuild(const Rig& rig, const Trajectory* motion, std::chro
     const size_t step = c.points.size() > options_.max_points
                             ? (c.points.size() + options_.max_points - 1) / options_.max_points
                             : 1;
-    if (!c.top.empty() && top.empty()) top.assign(points->size(), 0);
     for (size_t i = 0; i < c.points.size(); i += step) {
       points->push_back(R * c.points[i] + t);
-      if (!top.empty()) top.push_back(c.top.empty() ? 0 : c.top[i]);
+      if (told) top.push_back(c.top.empty() ? 0 : c.top[i]);
     }
     if (c.lidar && c.stamp >= newest_lidar) lidar = R * *c.lidar + t, newest_lidar = c.stamp;
   }
