@@ -92,7 +92,24 @@ std::vector<Eigen::Vector3f> column_points(const std::vector<Eigen::Vector3f>& p
   ColumnStats s;
   s.columns = columns.size();
   const float ceiling = ground_z + options.max_height_m;
+  // Overhead: flat, and nothing lower than lowest_base_z in the cell or the eight around it (a
+  // wall's rings may fall into neighbouring cells, its top ring alone into one).
+  const auto overhead = [&](uint64_t key) {
+    const auto ix = int32_t(uint32_t(key >> 32)), iy = int32_t(uint32_t(key));
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        const auto near = columns.find((uint64_t(uint32_t(ix + dx)) << 32) | uint32_t(iy + dy));
+        if (near != columns.end() && near->second.z_min <= options.lowest_base_z) return false;
+      }
+    }
+    return true;
+  };
   for (const auto& [key, c] : columns) {
+    if (c.z_min > options.lowest_base_z && c.z_max - c.z_min < options.flat_m && overhead(key)) {
+      ++s.overhead;
+      continue;
+    }
+    if (added.size() >= options.max_points) break;
     // Down to the ground (the ground itself included: the object's foot).
     for (float z = c.z_min - options.step_m; z > ground_z - 0.5f * options.step_m; z -= options.step_m) {
       added.emplace_back(c.xy_low.x(), c.xy_low.y(), std::max(z, ground_z));
@@ -127,13 +144,18 @@ std::optional<Eigen::Vector3f> lidar_origin(const Rig& rig, const std::string& f
 Completion complete_columns(const Rig& rig, const std::vector<Eigen::Vector3f>& points,
                             const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
                             const ColumnOptions& options) {
-  float sensors_z = lidar ? lidar->z() : INFINITY;
+  float lowest_sensor = lidar ? lidar->z() : INFINITY, highest_sensor = lidar ? lidar->z() : -INFINITY;
   for (size_t i = 0; i < rig.cameras().size(); ++i) {
-    sensors_z = std::min(sensors_z, float(rig.camera_pose(rig.default_frame(), i).translation().z()));
+    const float z = float(rig.camera_pose(rig.default_frame(), i).translation().z());
+    lowest_sensor = std::min(lowest_sensor, z);
+    highest_sensor = std::max(highest_sensor, z);
   }
   Completion c;
-  c.ground_z = estimate_ground_z(points, sensors_z);
-  if (c.ground_z) c.points = column_points(points, open_top, *c.ground_z, options, &c.stats, lidar);
+  c.ground_z = estimate_ground_z(points, lowest_sensor);
+  if (!c.ground_z) return c;
+  ColumnOptions bounded = options;
+  if (std::isfinite(highest_sensor)) bounded.lowest_base_z = std::min(options.lowest_base_z, highest_sensor + 0.5f);
+  c.points = column_points(points, open_top, *c.ground_z, bounded, &c.stats, lidar);
   return c;
 }
 

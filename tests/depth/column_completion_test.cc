@@ -135,6 +135,31 @@ TEST(ColumnCompletion, AnObjectTheTopRingPassesOverHasNoOpenTopAndTheFloorNoColu
   EXPECT_FALSE(estimate_ground_z(bad, 0.3f).has_value());
 }
 
+// A ceiling (or a canopy, a sign) has nothing under it down to the floor: points whose cell
+// holds nothing lower than lowest_base_z make no column, and the added points are capped.
+TEST(ColumnCompletion, OverheadPointsMakeNoColumnAndTheColumnsAreCapped) {
+  std::vector<Eigen::Vector3f> points;
+  for (float x = 1; x < 3; x += 0.05f) points.emplace_back(x, 0.f, 2.2f);  // a ceiling strip
+  points.emplace_back(4.f, 0.f, 0.3f);                                     // a post's point
+  ColumnOptions options;
+  options.lowest_base_z = 0.8f;
+  ColumnStats stats;
+  const auto added = column_points(points, {}, kGround, options, &stats);
+  EXPECT_EQ(stats.overhead, stats.columns - 1);
+  ASSERT_FALSE(added.empty());
+  for (const auto& p : added) EXPECT_NEAR(p.x(), 4.f, 1e-5);  // the post's column alone
+  // complete_columns puts the bound 0.5 m above the highest camera or lidar.
+  const auto rig = test::rig_in_world(Pose::Identity());
+  std::vector<Eigen::Vector3f> with_floor = points;
+  for (float x = -3; x < 3; x += 0.02f) with_floor.emplace_back(x, 1.f, kGround);
+  const Completion completion = complete_columns(*rig, with_floor, {}, std::nullopt);
+  ASSERT_TRUE(completion.ground_z.has_value());
+  EXPECT_EQ(completion.stats.overhead, stats.overhead);
+  // At most max_points added.
+  options.max_points = 5;
+  EXPECT_LE(column_points(points, {}, kGround, options).size(), 5u + 20u);  // the column under way ends
+}
+
 TEST(ColumnCompletion, OnlyALidarFrameOnTheRobotTellsItsTopRing) {
   const auto rig = test::rig_in_world(Pose::Identity());
   const auto lidar = lidar_origin(*rig, "lidar");

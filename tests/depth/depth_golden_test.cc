@@ -119,7 +119,7 @@ Variants run(const ViewSpec& fixed_spec, std::shared_ptr<Rig> rig = nullptr) {
   std::cout << "[ depth  ] lidar: " << stats.points << " points, " << stats.outside_view << " outside the view, "
             << stats.splatted_pixels << " px splatted, " << stats.filled_pixels << " filled, " << stats.see_through
             << " seen through; columns: ground at " << lidar_columns.ground_z.value_or(NAN) << " m, "
-            << lidar_columns.stats.columns << " columns (" << lidar_columns.stats.open_tops << " open-topped), "
+            << lidar_columns.stats.columns << " columns (" << lidar_columns.stats.open_tops << " open-topped, " << lidar_columns.stats.overhead << " overhead), "
             << lidar_columns.points.size() << " points added, " << stats.completed_pixels << " px completed\n";
 
   // (c) The exact depth: the truth's own hit points for the surface; for the occluders also
