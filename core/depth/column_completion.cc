@@ -124,6 +124,22 @@ std::vector<Eigen::Vector3f> column_points(const std::vector<Eigen::Vector3f>& p
       }
     }
   }
+  // Closed tops joined across the cells the rings skipped: not the open ones (what is
+  // above them is unknown) nor overhead ones (a ceiling's rings are its own surface).
+  std::vector<CellTop> tops;
+  for (const auto& [key, c] : columns) {
+    if (c.open_top || (c.z_min > options.lowest_base_z && c.z_max - c.z_min < options.flat_m && overhead(key))) continue;
+    tops.push_back({int32_t(uint32_t(key >> 32)), int32_t(uint32_t(key)), c.z_max});
+  }
+  FlatTopOptions top_options = options.tops;
+  top_options.cell_m = options.cell_m;
+  if (top_options.max_gap_m > 0.f && added.size() < options.max_points) {
+    const Eigen::Vector2f centre = sensor ? Eigen::Vector2f(sensor->head<2>()) : Eigen::Vector2f::Zero();
+    const std::vector<Eigen::Vector3f> joined = flat_top_points(points, tops, centre, top_options);
+    const size_t n = std::min(joined.size(), options.max_points - added.size());
+    added.insert(added.end(), joined.begin(), joined.begin() + n);
+    s.top_points = n;
+  }
   s.added = added.size();
   if (stats) *stats = s;
   return added;

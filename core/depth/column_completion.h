@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 
+#include "core/depth/flat_tops.h"
 #include "core/rig/rig.h"
 
 namespace omniview {
@@ -56,6 +57,9 @@ struct ColumnOptions {
   float flat_m = 0.1f;
   // At most this many points added (the longest columns are a storey of 5 cm steps).
   size_t max_points = 1'000'000;
+  // Closed tops (the highest point of a cell the sensor saw over) joined across the cells
+  // the rings skipped (flat_tops.h); its cell_m is this cell_m. max_gap_m 0: not joined.
+  FlatTopOptions tops;
 };
 
 struct ColumnStats {
@@ -63,6 +67,7 @@ struct ColumnStats {
   size_t overhead = 0;  // of them, cells above lowest_base_z: no column
   size_t added = 0;    // points added
   size_t open_tops = 0;
+  size_t top_points = 0;  // of `added`, points joining closed tops (flat_tops.h)
 };
 
 // The ground's height in a level frame (z up) as the most populated 2 cm slice of the
@@ -82,7 +87,7 @@ std::vector<uint8_t> top_of_field(const std::vector<Eigen::Vector3f>& points, fl
 
 // The added points, in the points' own frame: `points` in a level frame (z up) with the
 // ground at ground_z; `open_top` empty or one flag per point (top_of_field). Non-finite
-// points are skipped.
+// points are skipped. Closed tops are joined around `sensor` (the origin without one).
 std::vector<Eigen::Vector3f> column_points(const std::vector<Eigen::Vector3f>& points,
                                            const std::vector<uint8_t>& open_top, float ground_z,
                                            const ColumnOptions& options = {}, ColumnStats* stats = nullptr,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "cloud_scene.h"
 #include "core/depth/column_completion.h"
@@ -126,7 +127,8 @@ TEST(ColumnCompletion, AnObjectTheTopRingPassesOverHasNoOpenTopAndTheFloorNoColu
   const auto added = column_points(s.in_robot, top_of_field(s.in_sensor), kGround, {}, &stats, lidar);
   EXPECT_GT(stats.columns, 20u);
   EXPECT_EQ(stats.open_tops, 0u);
-  for (const auto& p : added) EXPECT_NEAR(p.x(), 6.f, 1e-3);  // the floor before it makes none
+  // The floor before it makes none (columns stand at their points, joined tops at cell centres).
+  for (size_t i = 0; i < added.size(); ++i) EXPECT_NEAR(added[i].x(), 6.f, i < stats.added - stats.top_points ? 1e-3 : 0.026);
   EXPECT_LT(added_heights(added).second, 0.2f);
   // Non-finite and absurdly far points are skipped.
   const std::vector<Eigen::Vector3f> bad = {Eigen::Vector3f::Constant(NAN), Eigen::Vector3f(1, 0, INFINITY),
@@ -227,6 +229,90 @@ TEST(ColumnCompletion, TheViewTakesColumnsOnlyWhereNothingWasMeasured) {
     }
   }
   EXPECT_GT(compared, 1000);
+}
+
+// A crate 0.3 m below a VLP-16 (its top at z = 0, x 1.4 .. 2.0 m ahead, 0.8 m wide) on the
+// floor at kGround: two rings cross its top 0.35 m apart and the face's top ring lies
+// 2 cm under its edge; nothing between them.
+std::vector<Eigen::Vector3f> scan_crate(const Eigen::Vector3f& origin) {
+  const Eigen::Vector3f lo(1.4f, -0.4f, kGround), hi(2.0f, 0.4f, 0.f);
+  std::vector<Eigen::Vector3f> points;
+  for (int ring = 0; ring < 16; ++ring) {
+    const float el = (-15.f + 2.f * ring) * float(M_PI / 180);
+    for (float az = -40; az <= 40; az += 0.2f) {
+      const float a = az * float(M_PI / 180);
+      const Eigen::Vector3f dir(std::cos(el) * std::cos(a), std::cos(el) * std::sin(a), std::sin(el));
+      float t0 = 0.f, t1 = INFINITY;  // the ray inside the box's slabs
+      for (int k = 0; k < 3; ++k) {
+        const float ta = (lo[k] - origin[k]) / dir[k], tb = (hi[k] - origin[k]) / dir[k];
+        t0 = std::max(t0, std::min(ta, tb)), t1 = std::min(t1, std::max(ta, tb));
+      }
+      if (t0 <= t1) {
+        points.push_back(origin + t0 * dir);
+      } else if (dir.z() < 0) {
+        const Eigen::Vector3f floor = origin + (kGround - origin.z()) / dir.z() * dir;
+        if (floor.head<2>().norm() < 8.f) points.push_back(floor);
+      }
+    }
+  }
+  return points;
+}
+
+TEST(FlatTops, ACratesTopIsJoinedBetweenTheRingsThatCrossIt) {
+  const Eigen::Vector3f lidar(0, 0, 0.3f);
+  const std::vector<Eigen::Vector3f> points = scan_crate(lidar);
+  const auto top_cells = [](const std::vector<Eigen::Vector3f>& pts) {
+    std::set<std::pair<int, int>> cells;
+    for (const auto& p : pts) {
+      if (std::abs(p.z()) < 0.03f && p.x() > 1.4f && p.x() < 2.0f && std::abs(p.y()) < 0.4f) {
+        cells.emplace(int(std::floor(p.x() / 0.05f)), int(std::floor(p.y() / 0.05f)));
+      }
+    }
+    return cells;
+  };
+  ColumnOptions unjoined;
+  unjoined.tops.max_gap_m = 0;
+  ColumnStats stats;
+  const auto without = column_points(points, {}, kGround, unjoined, &stats, lidar);
+  EXPECT_EQ(stats.top_points, 0u);
+  const auto with = column_points(points, {}, kGround, {}, &stats, lidar);
+  EXPECT_GT(stats.top_points, 50u);
+  std::vector<Eigen::Vector3f> all_without = points, all_with = points;
+  all_without.insert(all_without.end(), without.begin(), without.end());
+  all_with.insert(all_with.end(), with.begin(), with.end());
+  // The top is 12 x 16 cells; the rings and the face's edge hold a third of them, and
+  // the joins all but the strip behind the last ring (past it the rings saw the floor).
+  const size_t cells = 12 * 16;
+  EXPECT_LT(top_cells(all_without).size(), cells / 2) << top_cells(all_without).size();
+  EXPECT_GE(top_cells(all_with).size(), cells * 2 / 3) << top_cells(all_with).size();
+  // Every joined point lies on the top, none past its far edge (the rings there hit the floor).
+  for (size_t i = with.size() - stats.top_points; i < with.size(); ++i) {
+    EXPECT_NEAR(with[i].z(), 0.f, 0.03f);
+    EXPECT_GT(with[i].x(), 1.35f);
+    EXPECT_LT(with[i].x(), 2.0f);
+  }
+}
+
+TEST(FlatTops, TopsAreJoinedOnlyOverEmptyCellsCloseByAndAtOneHeight) {
+  const std::vector<CellTop> tops = {{0, 0, 0.f}, {8, 0, 0.02f}};
+  // Seven empty cells between two tops 0.4 m apart: joined, the heights interpolated.
+  std::vector<Eigen::Vector3f> joined = flat_top_points({}, tops, Eigen::Vector2f::Zero());
+  ASSERT_EQ(joined.size(), 7u);
+  for (const auto& p : joined) {
+    EXPECT_GT(p.x(), 0.05f);
+    EXPECT_LT(p.x(), 0.4f);
+    EXPECT_NEAR(p.y(), 0.025f, 1e-5f);
+    EXPECT_NEAR(p.z(), 0.02f * (p.x() - 0.025f) / 0.4f, 1e-4f);
+  }
+  // A floor point between them: the lidar saw the floor there, not a top.
+  EXPECT_TRUE(flat_top_points({Eigen::Vector3f(0.22f, 0.02f, -0.5f)}, tops, Eigen::Vector2f::Zero()).empty());
+  // Two heights 10 cm apart, or 0.6 m apart: not one top.
+  EXPECT_TRUE(flat_top_points({}, {{0, 0, 0.f}, {8, 0, 0.1f}}, Eigen::Vector2f::Zero()).empty());
+  EXPECT_TRUE(flat_top_points({}, {{0, 0, 0.f}, {12, 0, 0.f}}, Eigen::Vector2f::Zero()).empty());
+  // Along a diagonal too; far from the sensor, not at all.
+  EXPECT_EQ(flat_top_points({}, {{0, 0, 0.f}, {5, 5, 0.f}}, Eigen::Vector2f::Zero()).size(), 4u);
+  EXPECT_TRUE(flat_top_points({}, tops, Eigen::Vector2f(100.f, 0.f)).empty());
+  EXPECT_TRUE(flat_top_points({}, {}, Eigen::Vector2f::Zero()).empty());
 }
 
 }  // namespace

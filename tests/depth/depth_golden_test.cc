@@ -119,7 +119,7 @@ Variants run(const ViewSpec& fixed_spec, std::shared_ptr<Rig> rig = nullptr) {
   std::cout << "[ depth  ] lidar: " << stats.points << " points, " << stats.outside_view << " outside the view, "
             << stats.splatted_pixels << " px splatted, " << stats.filled_pixels << " filled, " << stats.see_through
             << " seen through; columns: ground at " << lidar_columns.ground_z.value_or(NAN) << " m, "
-            << lidar_columns.stats.columns << " columns (" << lidar_columns.stats.open_tops << " open-topped, " << lidar_columns.stats.overhead << " overhead), "
+            << lidar_columns.stats.columns << " columns (" << lidar_columns.stats.open_tops << " open-topped, " << lidar_columns.stats.overhead << " overhead), " << lidar_columns.stats.top_points << " joining tops, "
             << lidar_columns.points.size() << " points added, " << stats.completed_pixels << " px completed\n";
 
   // (c) The exact depth: the truth's own hit points for the surface; for the occluders also
@@ -195,8 +195,13 @@ TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
   EXPECT_LT(r.lidar.unseen_painted, r.lidar_no_columns.unseen_painted - 0.1);
   EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 0.5);
   EXPECT_GT(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db);
+  // Closed tops joined across the cells the rings or the depth images' samples skipped
+  // (core/depth/flat_tops.h, stop 42): (b) 30.8 -> 31.0 dB, (d) 27.8 -> 28.8 dB, the
+  // unseen pixels painted 44.1 -> 44.2 % and 27.1 -> 27.5 %. (The low crate's top beside
+  // the robot, half of (b)'s error, is seen by the cameras only at 1 deg grazing: they
+  // stand 3 cm above it, so a centimetre off in its height moves its picture by decimetres.)
   EXPECT_LT(r.depth_images.unseen_painted, r.fixed.unseen_painted - 0.4);
-  EXPECT_GT(r.depth_images.psnr_db, r.fixed.psnr_db - 4);
+  EXPECT_GT(r.depth_images.psnr_db, r.fixed.psnr_db - 3);
 }
 
 TEST(DepthGolden, FrontViewOnMeasuredDepth) {
