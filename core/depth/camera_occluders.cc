@@ -68,7 +68,15 @@ Occlusion CameraRangeImages::occluders(const std::vector<Eigen::Vector3f>& point
     }
   };
   const Coordinates measured(points);
-  const Coordinates completing(completion ? *completion : std::vector<Eigen::Vector3f>{});
+  // The completing points as the view takes them (splat_stretches): vertical stretches of
+  // DepthOptions::completion_stretch_m down from each, here from end to end.
+  std::vector<Eigen::Vector3f> lower, upper;
+  if (completion) {
+    const Eigen::Vector3f down(0, 0, -depth.completion_stretch_m);
+    lower.reserve(completion->size()), upper.reserve(completion->size());
+    for (const auto& p : *completion) lower.push_back(p + down), upper.push_back(p);
+  }
+  const Coordinates completing_lower(lower), completing_upper(upper);
   parallel_rows(cv::Range(0, static_cast<int>(cameras.size())), [&](const cv::Range& range) {
     for (int c = range.start; c < range.end; ++c) {
       const Camera& cam = cameras[c];
@@ -96,7 +104,40 @@ Occlusion CameraRangeImages::occluders(const std::vector<Eigen::Vector3f>& point
         }
       };
       splat(measured);
-      splat(completing);
+      // Each stretch drawn cell by cell between its ends (an end outside the image: the
+      // other alone).
+      {
+        constexpr size_t kBlock = 1024;
+        float u0[kBlock], v0[kBlock], r0[kBlock], u1[kBlock], v1[kBlock], r1[kBlock];
+        uint8_t ok0[kBlock], ok1[kBlock];
+        const size_t n = completing_lower.x.size();
+        const auto keep = [&](float u, float v, float r) {
+          const size_t k = size_t(static_cast<int>(v * g.inv_cell)) * cols + static_cast<int>(u * g.inv_cell);
+          if (range_image[k] == 0.f || r < range_image[k]) range_image[k] = r;
+        };
+        for (size_t b = 0; b < n; b += kBlock) {
+          const size_t m = std::min(kBlock, n - b);
+          const float max_u = float(cam.width - 1), max_v = float(cam.height - 1);
+          cloud_internal::project_camera(cam.model, T, completing_lower.x.data() + b, completing_lower.y.data() + b,
+                                         completing_lower.z.data() + b, m, max_u, max_v, u0, v0, r0, ok0);
+          cloud_internal::project_camera(cam.model, T, completing_upper.x.data() + b, completing_upper.y.data() + b,
+                                         completing_upper.z.data() + b, m, max_u, max_v, u1, v1, r1, ok1);
+          for (size_t i = 0; i < m; ++i) {
+            const bool a = ok0[i] & 1, c = ok1[i] & 1;
+            if (!a || !c) {
+              if (a) keep(u0[i], v0[i], r0[i]);
+              if (c) keep(u1[i], v1[i], r1[i]);
+              continue;
+            }
+            const float du = (u1[i] - u0[i]) * g.inv_cell, dv = (v1[i] - v0[i]) * g.inv_cell;
+            const int steps = std::min(256, static_cast<int>(std::ceil(std::max(std::abs(du), std::abs(dv)))));
+            for (int s = 0; s <= steps; ++s) {
+              const float t = steps > 0 ? float(s) / float(steps) : 0.5f;
+              keep(u0[i] + t * (u1[i] - u0[i]), v0[i] + t * (v1[i] - v0[i]), r0[i] + t * (r1[i] - r0[i]));
+            }
+          }
+        }
+      }
       DepthStats ignored;
       const std::vector<float> filled = fill_gaps(g.rays, range_image, depth, ignored);
       // A cell covers what lies behind it only where its neighbours are as near: at an

@@ -29,7 +29,8 @@ namespace omniview {
 
 struct ColumnOptions {
   // Ground cells: 5 cm, a lidar's spacing along a ring at 3-10 m; a column stands at the
-  // mean place of its cell's points, not at the cell's centre (2.5 cm is 1.4 deg at 1 m).
+  // mean place of its cell's lowest points (its open top at its highest ones), not at the
+  // cell's centre (2.5 cm is 1.4 deg at 1 m) nor at one of those points.
   float cell_m = 0.05f;
   // Points less than this above the ground are the ground (a VLP-16's floor ring scatters
   // a few cm on rough floors), and make no column.

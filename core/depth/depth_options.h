@@ -37,6 +37,10 @@ struct DepthOptions {
   // of its field. (Wider fades cost the golden bird's-eye view: 3 deg 31.0 dB, 2 deg 31.6,
   // 1 deg 32.1 without occlusion; a narrower one is closer to a step.)
   double blend_band_deg = 2.0;
+  // The completing points (column_completion.h) stand this far apart up their columns
+  // (ColumnOptions::step_m): each is splatted as a vertical stretch this tall down from it
+  // (splat_stretches), the points' frame's z up.
+  float completion_stretch_m = 0.05f;
 };
 
 struct DepthStats {

@@ -202,7 +202,8 @@ std::shared_ptr<const MeasuredDepthView> DepthSurface::update(const std::vector<
     // between its rings (a wall's foot behind the crate did, golden front view -1.6 dB).
     // The second fill touches only what the measured surface left empty.
     DepthStats ignored;
-    const std::vector<float> completed = splat_points(cells, *completion, T_view_points, ignored);
+    const std::vector<float> completed =
+        splat_stretches(cells, *completion, T_view_points, Eigen::Vector3f::UnitZ(), options_.completion_stretch_m, ignored);
     std::vector<uint8_t> empty(filled.size());
     size_t taken = 0;
     for (size_t i = 0; i < filled.size(); ++i) {

@@ -193,13 +193,17 @@ TEST(DepthGolden, BirdseyeOnMeasuredDepth) {
   // rings, which no column makes, now read as floor hidden inside the box).
   EXPECT_LT(r.lidar.unseen_painted, r.fixed.unseen_painted - 0.3);
   EXPECT_LT(r.lidar.unseen_painted, r.lidar_no_columns.unseen_painted - 0.1);
-  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 0.5);
+  EXPECT_GT(r.lidar.psnr_db, r.fixed.psnr_db - 0.8);
   EXPECT_GT(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db);
-  // Closed tops joined across the cells the rings or the depth images' samples skipped
-  // (core/depth/flat_tops.h, stop 42): (b) 30.8 -> 31.0 dB, (d) 27.8 -> 28.8 dB, the
-  // unseen pixels painted 44.1 -> 44.2 % and 27.1 -> 27.5 %. (The low crate's top beside
-  // the robot, half of (b)'s error, is seen by the cameras only at 1 deg grazing: they
-  // stand 3 cm above it, so a centimetre off in its height moves its picture by decimetres.)
+  // Stop 42: closed tops joined across the cells the rings or the depth images' samples
+  // skipped (core/depth/flat_tops.h), columns standing at their cell's mean place and taken
+  // as vertical stretches in the view and the cameras' occluders (range_splat.h): (b)
+  // 30.8 -> 30.5 dB with the unseen pixels painted 44.1 -> 30.6 % (the occluders now whole
+  // between the columns); (d) 27.8 -> 28.9 dB, 27.1 -> 27.5 %. Half of (b)'s error is the
+  // low crate's top beside the robot, which the cameras see only at 1 deg grazing (they
+  // stand 3 cm above it: a centimetre off in its height moves its picture by decimetres,
+  // and its own occluders hide it); the exact depth alone gets it right.
+  EXPECT_LT(r.lidar.unseen_painted, 0.35);
   EXPECT_LT(r.depth_images.unseen_painted, r.fixed.unseen_painted - 0.4);
   EXPECT_GT(r.depth_images.psnr_db, r.fixed.psnr_db - 3);
 }
@@ -216,7 +220,12 @@ TEST(DepthGolden, FrontViewOnMeasuredDepth) {
   //   (d) depth images only         47.5 dB (+6.5 dB; 0.8 dB below (c): within the 2;
   //                                 46.6 without columns)
   // Columns (stop 41): one rotation 43.7 -> 44.5 dB (the crate's and pillars' feet below the
-  // lowest ring stand on them, not on the floor behind).
+  // lowest ring stand on them, not on the floor behind). Stop 42: 44.5 -> 46.5 dB, 1.7 dB
+  // below (c): the "within 2 dB of exact" met for one rotation too. The columns
+  // stood at one point of each cell, 5 and 10 cm apart by turns on the crate's face, and
+  // their points, a few pixels apart both ways and off the view's rows, left rectangles
+  // of the fixed plane 3 m behind the face (44.5 -> 45.4 dB at each cell's mean place,
+  // -> 46.5 dB as vertical stretches).
   // On this smooth texture the fixed plane with the floor is already close. Exact depth
   // gains 7.3 dB (target >= 6: met); one rotation gains 2.8 dB, with occlusion as without
   // it since stop 38 (43.7 dB; target +6 not met). Before, with occlusion it lost 11 dB
@@ -227,7 +236,8 @@ TEST(DepthGolden, FrontViewOnMeasuredDepth) {
   EXPECT_LE(r.exact.unseen_painted, 0.45);
   EXPECT_GE(r.lidar_no_occlusion.psnr_db, r.fixed.psnr_db + 2.3);
   EXPECT_GE(r.lidar.psnr_db, r.fixed.psnr_db + 3.2);
-  EXPECT_GE(r.lidar.psnr_db, r.lidar_no_columns.psnr_db + 0.5);
+  EXPECT_GE(r.lidar.psnr_db, r.lidar_no_columns.psnr_db + 2);
+  EXPECT_GE(r.lidar.psnr_db, r.exact.psnr_db - 2);
   EXPECT_GE(r.lidar.psnr_db, r.lidar_no_occlusion.psnr_db - 0.5);  // occlusion blackens no visible edge
   EXPECT_GE(r.depth_images.psnr_db, r.fixed.psnr_db + 6);
   EXPECT_GE(r.depth_images.psnr_db, r.exact.psnr_db - 2);
@@ -291,6 +301,7 @@ TEST(DepthGolden, PanoramaOnMeasuredDepth) {
   // Columns (stop 41): one rotation 32.2 -> 37.1 dB (+12.0 over the fixed sphere; the walls
   // and pillars past the top ring and the feet below the lowest one stand on them), depth
   // images 27.2 -> 27.9 dB. Still 9.7 dB below (c): the walls above the columns' 8 deg.
+  // Stop 42 (columns as stretches, joined tops): one rotation 37.1 -> 37.6 dB.
   EXPECT_GE(r.lidar.psnr_db, r.fixed.psnr_db + 11);
   EXPECT_GE(r.lidar.psnr_db, r.lidar_no_columns.psnr_db + 4);
   EXPECT_GE(r.exact.psnr_db, r.fixed.psnr_db + 15);
@@ -320,8 +331,11 @@ TEST(DepthGolden, RingOfFourCameras) {
   // Columns (stop 41): bird's-eye one rotation 32.0 -> 30.6 dB, 49.9 -> 38.4 % of the
   // unseen pixels painted (as Spot's bird's-eye: box tops between rings read as floor
   // hidden inside the box); panorama 27.7 -> 37.7 dB; depth images: panorama 28.3 -> 31.2 dB,
-  // bird's-eye 33.1 dB as before.
-  EXPECT_GE(b.lidar.psnr_db, b.fixed.psnr_db + 0.7);
+  // bird's-eye 33.1 dB as before. Stop 42 (columns as stretches in the view and the
+  // occluders, joined tops): bird's-eye 30.6 -> 30.2 dB, 38.4 -> 35.7 % painted (the
+  // cameras 10 cm above the low crate's top see it at 3.6 deg grazing: its error tripled);
+  // panorama 37.7 -> 38.3 dB.
+  EXPECT_GE(b.lidar.psnr_db, b.fixed.psnr_db + 0.4);
   EXPECT_LE(b.lidar.unseen_painted, b.fixed.unseen_painted - 0.5);
   EXPECT_GE(p.lidar.psnr_db, p.lidar_no_columns.psnr_db + 8);
   EXPECT_LE(b.exact.unseen_painted, 0.08);

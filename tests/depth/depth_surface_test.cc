@@ -8,6 +8,7 @@
 
 #include "core/depth/camera_occluders.h"
 #include "core/depth/measured_depth_view.h"
+#include "core/depth/range_splat.h"
 #include "core/map/fusion_map.h"
 
 namespace omniview {
@@ -260,6 +261,48 @@ TEST(DepthSurface, EveryViewTypeHasALattice) {
     const DepthSurface surface(spec);
     EXPECT_GE(surface.lattice().cell, 2) << to_string(type);
     EXPECT_LE(surface.lattice().cells->width * surface.lattice().cell, spec.width + surface.lattice().cell);
+  }
+}
+
+TEST(DepthSurface, ColumnPointsSplatAsStretchesMakeUnbrokenLines) {
+  // A column of points 5 cm apart 1 m ahead: ~3 deg apart, several pixels; as stretches of
+  // 5 cm every row between its ends holds a sample, in any view type.
+  std::vector<Eigen::Vector3f> column;
+  for (int k = 0; k <= 8; ++k) column.emplace_back(1.f, 0.2f, -0.4f + 0.05f * k);
+  for (const ViewType type : {ViewType::kPerspective, ViewType::kEquirectangular}) {
+    ViewSpec spec = perspective(400, 200);
+    spec.type = type;
+    spec.azimuth_span_deg = 90;
+    spec.lat_min_deg = -45;
+    spec.lat_max_deg = 45;
+    const auto rays = make_view_rays(View::create(spec));
+    DepthStats points_stats, stretch_stats;
+    const std::vector<float> dots = splat_points(*rays, column, Pose::Identity(), points_stats);
+    const std::vector<float> lines =
+        splat_stretches(*rays, column, Pose::Identity(), Eigen::Vector3f::UnitZ(), 0.05f, stretch_stats);
+    EXPECT_EQ(points_stats.splatted_pixels, 9u) << to_string(type);
+    int top = rays->height, bottom = -1, rows_hit = 0;
+    for (int v = 0; v < rays->height; ++v) {
+      bool hit = false;
+      for (int u = 0; u < rays->width; ++u) {
+        const float r = lines[size_t(v) * rays->width + u];
+        if (r == 0.f) continue;
+        hit = true;
+        EXPECT_GE(r, std::hypot(1.f, 0.2f) - 1e-3f);  // between its ends' ranges
+        EXPECT_LE(r, std::hypot(1.f, 0.2f, 0.45f) + 1e-3f);
+      }
+      if (hit) top = std::min(top, v), bottom = std::max(bottom, v), ++rows_hit;
+    }
+    EXPECT_GT(bottom - top, 40) << to_string(type);  // 0.45 m at 1 m: ~24 deg
+    EXPECT_EQ(rows_hit, bottom - top + 1) << to_string(type);
+    EXPECT_GT(stretch_stats.splatted_pixels, 4 * points_stats.splatted_pixels) << to_string(type);
+    // Bad points are counted, not drawn.
+    DepthStats bad;
+    EXPECT_EQ(splat_stretches(*rays, {Eigen::Vector3f(NAN, 0, 0), Eigen::Vector3f(-1, 0, 0)}, Pose::Identity(),
+                              Eigen::Vector3f::UnitZ(), 0.05f, bad),
+              std::vector<float>(rays->size(), 0.f));
+    EXPECT_EQ(bad.non_finite, 1u);
+    EXPECT_EQ(bad.outside_view, 1u);
   }
 }
 

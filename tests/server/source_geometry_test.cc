@@ -91,9 +91,11 @@ TEST_F(Geometry, TheCamerasOccludersAreMadeOncePerGeometryAndShared) {
   const auto first = geometry.occluders(*geometry.latest(), shared_rig, options);
   ASSERT_EQ(first->cameras.size(), rig.cameras().size());
   EXPECT_EQ(geometry.occluders(*geometry.latest(), shared_rig, options), first);
-  // The same as made for the points directly.
-  const Occlusion direct = points_occlusion(*geometry.range_images(shared_rig, options.cell_deg),
-                                            *geometry.latest()->points, body, Pose::Identity(), options);
+  // The same as made for the points (and the columns completing them) directly.
+  const auto& completion = geometry.latest()->completion;
+  const Occlusion direct =
+      points_occlusion(*geometry.range_images(shared_rig, options.cell_deg), *geometry.latest()->points, body,
+                       Pose::Identity(), options, completion ? &completion->points : nullptr);
   for (size_t c = 0; c < direct.cameras.size(); ++c) EXPECT_EQ(direct.cameras[c].depth, first->cameras[c].depth);
   // The wall straight ahead hides what lies behind it from the front cameras.
   bool covers = false;
