@@ -92,10 +92,10 @@ TEST_F(Geometry, TheCamerasOccludersAreMadeOncePerGeometryAndShared) {
   ASSERT_EQ(first->cameras.size(), rig.cameras().size());
   EXPECT_EQ(geometry.occluders(*geometry.latest(), shared_rig, options), first);
   // The same as made for the points (and the columns completing them) directly.
-  const auto& completion = geometry.latest()->completion;
+  const auto latest = geometry.latest();
   const Occlusion direct =
-      points_occlusion(*geometry.range_images(shared_rig, options.cell_deg), *geometry.latest()->points, body,
-                       Pose::Identity(), options, completion ? &completion->points : nullptr);
+      points_occlusion(*geometry.range_images(shared_rig, options.cell_deg), *latest->points, body, Pose::Identity(),
+                       options, latest->completion ? &latest->completion->points : nullptr);
   for (size_t c = 0; c < direct.cameras.size(); ++c) EXPECT_EQ(direct.cameras[c].depth, first->cameras[c].depth);
   // The wall straight ahead hides what lies behind it from the front cameras.
   bool covers = false;
