@@ -180,22 +180,33 @@ std::optional<Eigen::Vector3f> lidar_origin(const Rig& rig, const std::string& f
   return T_robot_frame->translation().cast<float>();
 }
 
+SensorHeights sensor_heights(const Rig& rig, const std::optional<Eigen::Vector3f>& lidar) {
+  SensorHeights h;
+  if (lidar) h.lowest = h.highest = lidar->z();
+  for (size_t i = 0; i < rig.cameras().size(); ++i) {
+    const float z = float(rig.camera_pose(rig.default_frame(), i).translation().z());
+    h.lowest = std::min(h.lowest, z);
+    h.highest = std::max(h.highest, z);
+  }
+  return h;
+}
+
+Completion complete_columns(const SensorHeights& sensors, const std::vector<Eigen::Vector3f>& points,
+                            const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
+                            const ColumnOptions& options) {
+  Completion c;
+  c.ground_z = estimate_ground_z(points, sensors.lowest);
+  if (!c.ground_z) return c;
+  ColumnOptions bounded = options;
+  if (std::isfinite(sensors.highest)) bounded.lowest_base_z = std::min(options.lowest_base_z, sensors.highest + 0.5f);
+  c.points = column_points(points, open_top, *c.ground_z, bounded, &c.stats, lidar);
+  return c;
+}
+
 Completion complete_columns(const Rig& rig, const std::vector<Eigen::Vector3f>& points,
                             const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
                             const ColumnOptions& options) {
-  float lowest_sensor = lidar ? lidar->z() : INFINITY, highest_sensor = lidar ? lidar->z() : -INFINITY;
-  for (size_t i = 0; i < rig.cameras().size(); ++i) {
-    const float z = float(rig.camera_pose(rig.default_frame(), i).translation().z());
-    lowest_sensor = std::min(lowest_sensor, z);
-    highest_sensor = std::max(highest_sensor, z);
-  }
-  Completion c;
-  c.ground_z = estimate_ground_z(points, lowest_sensor);
-  if (!c.ground_z) return c;
-  ColumnOptions bounded = options;
-  if (std::isfinite(highest_sensor)) bounded.lowest_base_z = std::min(options.lowest_base_z, highest_sensor + 0.5f);
-  c.points = column_points(points, open_top, *c.ground_z, bounded, &c.stats, lidar);
-  return c;
+  return complete_columns(sensor_heights(rig, lidar), points, open_top, lidar, options);
 }
 
 }  // namespace omniview

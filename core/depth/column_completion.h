@@ -113,4 +113,15 @@ Completion complete_columns(const Rig& rig, const std::vector<Eigen::Vector3f>& 
                             const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
                             const ColumnOptions& options = {});
 
+// The same in two steps, for a caller that completes the points later than it has the rig:
+// what complete_columns takes of the rig (its cameras' and `lidar`'s lowest and highest
+// heights), then the completion from those.
+struct SensorHeights {
+  float lowest = INFINITY, highest = -INFINITY;
+};
+SensorHeights sensor_heights(const Rig& rig, const std::optional<Eigen::Vector3f>& lidar);
+Completion complete_columns(const SensorHeights& sensors, const std::vector<Eigen::Vector3f>& points,
+                            const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
+                            const ColumnOptions& options = {});
+
 }  // namespace omniview

@@ -107,7 +107,7 @@ void Pipeline::apply_measured_depth(ViewState& state, const GeometrySnapshot& ge
   const Pose T_view_points = state.T_robot_view.inverse() * *T_robot_points;
   auto depth = std::make_shared<ViewDepth>(*state.depth);
   const auto view = depth->surface->update(*geometry.points, T_view_points, nullptr,
-                                           geometry.completion ? &geometry.completion->points : nullptr);
+                                           geometry.completion ? &geometry.completion->get().points : nullptr);
   // The cameras' occluders are the geometry's, shared by the source's depth views; the
   // pixels judged are this view's.
   const auto occluders = this->geometry(state.spec.source).occluders(geometry, state.rig, ViewOcclusionOptions{});

@@ -95,7 +95,7 @@ TEST_F(Geometry, TheCamerasOccludersAreMadeOncePerGeometryAndShared) {
   const auto latest = geometry.latest();
   const Occlusion direct =
       points_occlusion(*geometry.range_images(shared_rig, options.cell_deg), *latest->points, body, Pose::Identity(),
-                       options, latest->completion ? &latest->completion->points : nullptr);
+                       options, latest->completion ? &latest->completion->get().points : nullptr);
   for (size_t c = 0; c < direct.cameras.size(); ++c) EXPECT_EQ(direct.cameras[c].depth, first->cameras[c].depth);
   // The wall straight ahead hides what lies behind it from the front cameras.
   bool covers = false;
@@ -200,7 +200,7 @@ TEST_F(Geometry, ALidarsCloudIsCompletedByColumnsPastItsTopRing) {
   geometry.add(cloud, with_lidar, nullptr, arrival);
   const auto snapshot = geometry.latest();
   ASSERT_TRUE(snapshot && snapshot->completion);
-  const Completion& completion = *snapshot->completion;
+  const Completion& completion = snapshot->completion->get();
   ASSERT_TRUE(completion.ground_z.has_value());
   EXPECT_NEAR(*completion.ground_z, -0.5, 0.01);  // in the body frame
   EXPECT_GT(completion.stats.open_tops, 10u);
@@ -215,7 +215,8 @@ TEST_F(Geometry, ALidarsCloudIsCompletedByColumnsPastItsTopRing) {
   for (auto& p : in_body.points) p = (T_body_lidar * p.cast<double>()).cast<float>();
   SourceGeometry unknown_sensor;
   unknown_sensor.add(in_body, with_lidar, nullptr, arrival);
-  const Completion& down_only = *unknown_sensor.latest()->completion;
+  const auto down_only_snapshot = unknown_sensor.latest();
+  const Completion& down_only = down_only_snapshot->completion->get();
   EXPECT_GT(down_only.stats.columns, 10u);
   EXPECT_EQ(down_only.stats.open_tops, 0u);
 }

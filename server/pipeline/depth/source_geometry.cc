@@ -95,13 +95,18 @@ void SourceGeometry::rebuild(const Rig& rig, const Trajectory* motion, std::chro
   }
   GeometrySnapshot snapshot;
   snapshot.version = ++version_;
-  snapshot.completion = std::make_shared<const Completion>(complete_columns(rig, *points, top, lidar));
+  snapshot.completion = std::make_shared<const LazyCompletion>(points, std::move(top), lidar, sensor_heights(rig, lidar));
   snapshot.points = std::move(points);
   snapshot.frame = rig.default_frame();
   snapshot.stamp = newest;
   snapshot.arrival = arrival;
   snapshot.clouds = clouds_.size();
   latest_ = std::move(snapshot);
+}
+
+const Completion& LazyCompletion::get() const {
+  std::call_once(once_, [this] { completion_ = complete_columns(sensors_, *points_, top_, lidar_); });
+  return completion_;
 }
 
 std::optional<GeometrySnapshot> SourceGeometry::latest() const {
@@ -148,7 +153,7 @@ std::shared_ptr<const Occlusion> SourceGeometry::occluders(const GeometrySnapsho
     }
     occluders_ = std::make_shared<const Occlusion>(
         points_occlusion(*cameras, *snapshot.points, rig->default_frame(), *T_robot_points, options,
-                         snapshot.completion ? &snapshot.completion->points : nullptr));
+                         snapshot.completion ? &snapshot.completion->get().points : nullptr));
     occluders_version_ = snapshot.version;
     occluders_rig_ = rig;
   }
