@@ -50,11 +50,27 @@ inline void keep_nearest(std::vector<float>& range, size_t i, float r, DepthStat
   if (cell == 0.f || r < cell) cell = r;
 }
 
+// A point of the view frame into its pixel, or counted as outside the view.
+void splat_point(const Projector& project, const ViewRays& rays, const Eigen::Vector3f& p, std::vector<float>& range,
+                 DepthStats& stats) {
+  float fu = 0, fv = 0;
+  const float r = p.norm();
+  if (!project(p, fu, fv) || !(r > 0)) {
+    ++stats.outside_view;
+    return;
+  }
+  const size_t i = size_t(static_cast<int>(fv + 0.5f)) * rays.width + static_cast<int>(fu + 0.5f);
+  if (!rays.valid[i]) {
+    ++stats.outside_view;
+    return;
+  }
+  keep_nearest(range, i, r, stats);
+}
+
 }  // namespace
 
 std::vector<float> splat_points(const ViewRays& rays, const std::vector<Eigen::Vector3f>& points,
                                 const Pose& T_view_points, DepthStats& stats) {
-  const int w = rays.width;
   std::vector<float> range(rays.size(), 0.f);
   const Projector project(rays);
   const Eigen::Matrix3f R = T_view_points.linear().cast<float>();
@@ -65,19 +81,7 @@ std::vector<float> splat_points(const ViewRays& rays, const std::vector<Eigen::V
       ++stats.non_finite;
       continue;
     }
-    const Eigen::Vector3f p = R * q + t;
-    float fu = 0, fv = 0;
-    const float r = p.norm();
-    if (!project(p, fu, fv) || !(r > 0)) {
-      ++stats.outside_view;
-      continue;
-    }
-    const size_t i = size_t(static_cast<int>(fv + 0.5f)) * w + static_cast<int>(fu + 0.5f);
-    if (!rays.valid[i]) {
-      ++stats.outside_view;
-      continue;
-    }
-    keep_nearest(range, i, r, stats);
+    splat_point(project, rays, R * q + t, range, stats);
   }
   return range;
 }
@@ -103,15 +107,7 @@ std::vector<float> splat_stretches(const ViewRays& rays, const std::vector<Eigen
     const Eigen::Vector3f ends[2] = {p + down, p};
     float fu[2], fv[2];
     if (!project(ends[0], fu[0], fv[0]) || !project(ends[1], fu[1], fv[1])) {
-      // An end outside the image: the point alone.
-      float cu = 0, cv = 0;
-      const float r = p.norm();
-      if (!project(p, cu, cv) || !(r > 0)) {
-        ++stats.outside_view;
-        continue;
-      }
-      const size_t i = size_t(static_cast<int>(cv + 0.5f)) * w + static_cast<int>(cu + 0.5f);
-      if (rays.valid[i]) keep_nearest(range, i, r, stats);
+      splat_point(project, rays, p, range, stats);  // an end outside the image: the point alone
       continue;
     }
     const float r0 = ends[0].norm(), r1 = ends[1].norm();
