@@ -123,10 +123,10 @@ Occlusion CameraRangeImages::occluders(const std::vector<Eigen::Vector3f>& point
           cloud_internal::project_camera(cam.model, T, completing_upper.x.data() + b, completing_upper.y.data() + b,
                                          completing_upper.z.data() + b, m, max_u, max_v, u1, v1, r1, ok1);
           for (size_t i = 0; i < m; ++i) {
-            const bool a = ok0[i] & 1, c = ok1[i] & 1;
-            if (!a || !c) {
-              if (a) keep(u0[i], v0[i], r0[i]);
-              if (c) keep(u1[i], v1[i], r1[i]);
+            const bool lower_in = ok0[i] & 1, upper_in = ok1[i] & 1;
+            if (!lower_in || !upper_in) {
+              if (lower_in) keep(u0[i], v0[i], r0[i]);
+              if (upper_in) keep(u1[i], v1[i], r1[i]);
               continue;
             }
             const float du = (u1[i] - u0[i]) * g.inv_cell, dv = (v1[i] - v0[i]) * g.inv_cell;
