@@ -27,7 +27,8 @@ namespace omniview {
 struct ViewDepth {
   std::shared_ptr<const DepthSurface> surface;  // the view's rays and fixed surface (per revision)
   uint64_t geometry_version = 0;                // of the geometry the map stands on; 0: none yet
-  std::chrono::steady_clock::time_point geometry_arrival{};
+  std::chrono::steady_clock::time_point geometry_arrival{};  // its newest cloud's: the age shown
+  std::chrono::steady_clock::time_point geometry_ready{};    // freshness counts from here
   double measured_fraction = 0;                 // of the view's pixels on measured depth
   double update_ms = 0;                         // the last update: surface, occlusion and map
 };

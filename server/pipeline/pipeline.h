@@ -49,12 +49,6 @@ namespace omniview {
 
 struct Staleness;
 
-// Geometry a depth view stands on at most this old (its latest cloud's arrival): a changed
-// view or one watched again takes the source's geometry only if it is this recent, and
-// one whose geometry grew older (nobody watched, the lidar stopped) returns to its fixed
-// surface until new geometry comes.
-inline constexpr std::chrono::seconds kFreshGeometry{2};
-
 struct PipelineLimits {
   int64_t max_view_pixels = 4096LL * 4096;
   int max_views = 32;

@@ -37,7 +37,7 @@ void Pipeline::deliver_geometry(SourceChannel& ch, const FrameSet& frames) {
       if (!state->depth || state->spec.source != name || v->subscriber_count() == 0) continue;
       watched.push_back(view);
       if (state->depth->geometry_version != 0 &&
-          DepthClock::now() - state->depth->geometry_arrival >= kFreshGeometry) {
+          !fresh_geometry(state->depth->geometry_ready, DepthClock::now())) {
         stale.push_back(view);
       }
     }
@@ -70,7 +70,7 @@ void Pipeline::update_depth(const std::string& name) {
   if (!old->depth) return;  // made fixed meanwhile
   const auto now = DepthClock::now();
   const auto snapshot = geometry(old->spec.source).latest();
-  if (snapshot && now - snapshot->arrival < kFreshGeometry) {
+  if (snapshot && fresh_geometry(snapshot->ready, now)) {
     if (snapshot->version == old->depth->geometry_version) return;
     auto state = std::make_shared<ViewState>(*old);
     apply_measured_depth(*state, *snapshot);
@@ -84,7 +84,7 @@ void Pipeline::update_depth(const std::string& name) {
 void Pipeline::drop_stale_geometry(LiveView& view) {
   const auto old = view.state();
   if (!old->depth || old->depth->geometry_version == 0) return;
-  if (DepthClock::now() - old->depth->geometry_arrival < kFreshGeometry) return;
+  if (fresh_geometry(old->depth->geometry_ready, DepthClock::now())) return;
   // Geometry from the last time someone watched (or before the lidar went quiet): the
   // fixed surface until new geometry comes, never a world that may have moved since.
   try {
@@ -117,6 +117,7 @@ void Pipeline::apply_measured_depth(ViewState& state, const GeometrySnapshot& ge
   state.coverage = state.map->coverage();
   depth->geometry_version = geometry.version;
   depth->geometry_arrival = geometry.arrival;
+  depth->geometry_ready = geometry.ready;
   depth->measured_fraction = view->measured_fraction();
   depth->update_ms = std::chrono::duration<double, std::milli>(DepthClock::now() - t0).count();
   state.depth = std::move(depth);

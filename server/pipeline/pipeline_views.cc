@@ -100,7 +100,7 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
     }
     state->depth = std::move(depth);
     const auto geometry = this->geometry(channel(spec.source).source().name()).latest();
-    if (geometry && Clock::now() - geometry->arrival < kFreshGeometry) {
+    if (geometry && fresh_geometry(geometry->ready, Clock::now())) {
       try {
         apply_measured_depth(*state, *geometry);
       } catch (const std::invalid_argument& e) {

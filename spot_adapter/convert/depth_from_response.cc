@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/camera/camera_model.h"
+#include "core/depth/depth_image_points.h"
 #include "spot_adapter/client/spot_error.h"
 
 namespace omniview::spot {
@@ -52,23 +52,8 @@ std::vector<Eigen::Vector3f> points_from_depth_response(const api::ImageResponse
   if (!(scale > 0) || !std::isfinite(scale)) {
     fail_depth(name, "its source gives no usable depth_scale (" + std::to_string(scale) + ")");
   }
-  step = std::max(1, step);
-  std::vector<Eigen::Vector3f> points;
-  points.reserve(pixels / size_t(step * step));
-  const auto* bytes = reinterpret_cast<const unsigned char*>(data.data());
-  for (int v = 0; v < camera.height; v += step) {
-    for (int u = 0; u < camera.width; u += step) {
-      const size_t i = size_t(v) * camera.width + u;
-      const unsigned raw = bytes[2 * i] | (unsigned(bytes[2 * i + 1]) << 8);
-      if (raw == 0) continue;
-      const double z = raw / scale;
-      if (z > max_range_m) continue;
-      Eigen::Vector3d ray;
-      if (!unproject(camera.model, Eigen::Vector2d(u, v), ray) || !(ray.z() > 0)) continue;
-      points.push_back((ray * (z / ray.z())).cast<float>());
-    }
-  }
-  return points;
+  return depth_image_points(DepthImage{{reinterpret_cast<const uint8_t*>(data.data()), data.size()}, scale}, camera,
+                            step, max_range_m);
 }
 
 }  // namespace omniview::spot

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/depth/camera_occluders.h"
+#include "core/depth/depth_image_points.h"
 #include "core/depth/measured_depth_view.h"
 #include "core/depth/range_splat.h"
 #include "core/map/fusion_map.h"
@@ -358,6 +359,38 @@ TEST(DepthOcclusion, AHiddenSurfacePointIsBlackNotTheOccludersColour) {
   ASSERT_TRUE(view->point_to_pixel(spec.T_frame_view().inverse() * Vec3(4, 2.0, 0), uv));
   EXPECT_EQ(with.primary[size_t(std::lround(uv.y())) * with.width + size_t(std::lround(uv.x()))].cam, 0);
   EXPECT_LT(with.coverage(), without.coverage());
+}
+
+// A depth camera's image as points: each pixel's value along its ray, 0 and too far
+// dropped, every `step`-th pixel each way; an image of the wrong size or scale is refused.
+TEST(DepthImagePoints, EachPixelsDepthAlongItsRay) {
+  Camera cam;
+  cam.name = "front_depth";
+  cam.width = 4, cam.height = 2;
+  cam.model = CameraModel(PinholeRadtan(2, 2, 1.5, 0.5));
+  // Depths in mm, little-endian: 2 m everywhere but a 0 (nothing measured) and 50 m.
+  std::vector<uint16_t> mm = {2000, 0, 2000, 2000, 2000, 2000, 50000, 2000};
+  std::vector<uint8_t> bytes;
+  for (uint16_t v : mm) bytes.push_back(uint8_t(v & 0xff)), bytes.push_back(uint8_t(v >> 8));
+  const DepthImage image{bytes, 1000};
+  const auto points = depth_image_points(image, cam, 0, 10);
+  ASSERT_EQ(points.size(), 6u);
+  for (const auto& p : points) EXPECT_NEAR(p.z(), 2.0f, 1e-5f);
+  EXPECT_NEAR(points.front().x(), (0 - 1.5) / 2 * 2.0, 1e-5);  // pixel (0, 0)
+  EXPECT_NEAR(points.front().y(), (0 - 0.5) / 2 * 2.0, 1e-5);
+  EXPECT_EQ(depth_image_points(image, cam, 2, 10).size(), 2u);  // (0, 0) and (2, 0)
+  EXPECT_EQ(depth_image_points(image, cam, 1, 100).size(), 7u);
+
+  const std::vector<uint8_t> short_data(bytes.begin(), bytes.end() - 2);
+  try {
+    depth_image_points(DepthImage{short_data, 1000}, cam, 1, 10);
+    ADD_FAILURE() << "a short image was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("camera 'front_depth': 14 bytes for 8 16-bit pixels"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(depth_image_points(DepthImage{bytes, 0}, cam, 1, 10), std::invalid_argument);
+  EXPECT_THROW(depth_image_points(DepthImage{bytes, NAN}, cam, 1, 10), std::invalid_argument);
 }
 
 }  // namespace

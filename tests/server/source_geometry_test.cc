@@ -119,6 +119,22 @@ TEST_F(Geometry, CloudsLeaveByCaptureTimeBehindTheNewest) {
   EXPECT_EQ(geometry.latest()->stamp, kT0 + 700ms);
 }
 
+// A cloud that took seconds to reach the geometry (a starved machine: the accumulation
+// alone took that long under a sanitizer in CI) is still the newest the source has: its
+// freshness counts from when its snapshot was made, its age from the cloud's arrival.
+TEST_F(Geometry, FreshnessCountsFromTheSnapshotNotFromTheCloudsArrival) {
+  SourceGeometry geometry;
+  const auto now = std::chrono::steady_clock::now();
+  const auto long_ago = now - 3 * kFreshGeometry;
+  geometry.add(scan(make_pose(Vec3(0, 0, 0.5), 0, 0, 0), kT0, body), rig, nullptr, long_ago);
+  const auto snapshot = geometry.latest();
+  ASSERT_TRUE(snapshot);
+  EXPECT_EQ(snapshot->arrival, long_ago);
+  EXPECT_GE(snapshot->ready, now);
+  EXPECT_TRUE(fresh_geometry(snapshot->ready, std::chrono::steady_clock::now()));
+  EXPECT_FALSE(fresh_geometry(snapshot->ready, snapshot->ready + kFreshGeometry));
+}
+
 TEST_F(Geometry, ThePointBudgetDropsTheOldestCloudsAndThinsOneTooBig) {
   GeometryOptions options;
   options.max_points = 2000;

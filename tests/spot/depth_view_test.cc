@@ -474,7 +474,9 @@ TEST_F(DepthViews, AViewChangedKeepsStandingOnMeasuredDepth) {
   // Under a sanitizer the source can stall for seconds (GetImage deadlines; an ASan
   // rehearsal of stop 36): geometry older than 2 s is not used, so the new revision starts
   // on its fixed surface until clouds come again, as on a robot whose lidar went quiet.
-  if (test_time_scale() == 1) EXPECT_GT(measured.get().measured_depth(), 0.2);
+  if (test_time_scale() == 1) {
+    EXPECT_GT(measured.get().measured_depth(), 0.2);
+  }
   EXPECT_TRUE(eventually_within(
       [&] {
         const v1::Frame f = measured.get();

@@ -100,6 +100,7 @@ void SourceGeometry::rebuild(const Rig& rig, const Trajectory* motion, std::chro
   snapshot.frame = rig.default_frame();
   snapshot.stamp = newest;
   snapshot.arrival = arrival;
+  snapshot.ready = std::chrono::steady_clock::now();
   snapshot.clouds = clouds_.size();
   latest_ = std::move(snapshot);
 }

@@ -60,6 +60,19 @@ class LazyCompletion {
   mutable Completion completion_;
 };
 
+// Geometry a depth view stands on at most this old: a changed view or one watched again
+// takes the source's geometry only if it is this recent, and one whose geometry grew older
+// (nobody watched, the lidar stopped) returns to its fixed surface until new geometry comes.
+// Counted from when the geometry was ready (its points moved into the robot's frame), not
+// from its cloud's arrival: on a starved machine the accumulation alone took seconds under
+// a sanitizer, and a window that counted it dropped every geometry unused, so a view never
+// stood on measured depth (CI, stop 42).
+inline constexpr std::chrono::seconds kFreshGeometry{2};
+
+inline bool fresh_geometry(std::chrono::steady_clock::time_point ready, std::chrono::steady_clock::time_point now) {
+  return now - ready < kFreshGeometry;
+}
+
 // Points as of one moment, shared with every depth view of the source.
 struct GeometrySnapshot {
   uint64_t version = 0;  // increases with every cloud added
@@ -69,7 +82,8 @@ struct GeometrySnapshot {
   std::shared_ptr<const LazyCompletion> completion;
   std::string frame;                                           // the rig's default (robot) frame
   std::chrono::system_clock::time_point stamp;                 // the newest cloud's capture time
-  std::chrono::steady_clock::time_point arrival;               // when the daemon had it
+  std::chrono::steady_clock::time_point arrival;               // when the daemon had its newest cloud
+  std::chrono::steady_clock::time_point ready;                 // when this snapshot was made of it
   size_t clouds = 0;                                           // accumulated into `points`
 };
 
