@@ -47,13 +47,13 @@ RenderCloud load_render_cloud(const Args& args, const Rig& rig) {
                              " points is finite (all NaN or infinite)");
   }
   // In the robot frame, completed as the daemon completes its geometry (column_completion.h):
-  // a lidar's top ring told in its own frame.
+  // a lidar's top ring told in its own frame, and its rays from its place.
   const auto lidar = lidar_origin(rig, out.frame);
-  const std::vector<uint8_t> top = lidar ? top_of_field(cloud.points) : std::vector<uint8_t>{};
+  const std::vector<uint8_t> flags = lidar ? lidar_flags(cloud.points) : std::vector<uint8_t>{};
   const Eigen::Isometry3f T_robot_cloud = rig.frames().lookup(rig.default_frame(), out.frame).cast<float>();
   out.points.reserve(cloud.points.size());
   for (const auto& p : cloud.points) out.points.push_back(T_robot_cloud * p);
-  out.completion = complete_columns(rig, out.points, top, lidar);
+  out.completion = complete_columns(rig, out.points, flags, lidar);
   return out;
 }
 

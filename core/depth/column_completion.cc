@@ -96,8 +96,16 @@ std::vector<uint8_t> top_of_field(const std::vector<Eigen::Vector3f>& points, fl
   return top;
 }
 
+std::vector<uint8_t> lidar_flags(const std::vector<Eigen::Vector3f>& points) {
+  std::vector<uint8_t> flags = top_of_field(points);
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (points[i].allFinite()) flags[i] |= SensorRays::kSeenFrom;
+  }
+  return flags;
+}
+
 std::vector<Eigen::Vector3f> column_points(const std::vector<Eigen::Vector3f>& points,
-                                           const std::vector<uint8_t>& open_top, float ground_z,
+                                           const std::vector<uint8_t>& flags, float ground_z,
                                            const ColumnOptions& options, ColumnStats* stats,
                                            const std::optional<Eigen::Vector3f>& sensor) {
   const float inv_cell = 1.f / options.cell_m;
@@ -106,7 +114,11 @@ std::vector<Eigen::Vector3f> column_points(const std::vector<Eigen::Vector3f>& p
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f& p = points[i];
     if (!usable(p) || !(p.z() > above)) continue;
-    columns[cell_key(p.x(), p.y(), inv_cell)].add(p, !open_top.empty() && open_top[i]);
+    columns[cell_key(p.x(), p.y(), inv_cell)].add(p, !flags.empty() && (flags[i] & kTopOfField));
+  }
+  std::optional<SensorRays> rays;
+  if (sensor && std::any_of(flags.begin(), flags.end(), [](uint8_t f) { return f & SensorRays::kSeenFrom; })) {
+    rays.emplace(points, flags, *sensor);
   }
   std::vector<Eigen::Vector3f> added;
   ColumnStats s;
@@ -130,12 +142,20 @@ std::vector<Eigen::Vector3f> column_points(const std::vector<Eigen::Vector3f>& p
       continue;
     }
     if (added.size() >= options.max_points) break;
-    // Down to the ground (the ground itself included: the object's foot).
+    // Down to the ground (the ground itself included: the object's foot), or to just above
+    // where the sensor saw through under it.
     const Eigen::Vector2f low = c.xy_low(), high = c.xy_high();
+    float bottom = ground_z;
+    if (const auto through = rays ? rays->highest_crossing(low, c.z_min, ground_z + 0.5f * options.step_m,
+                                                           options.see_through_m, options.see_through_rays)
+                                  : std::nullopt) {
+      bottom = std::min(c.z_min, *through + options.step_m);
+      ++s.seen_under;
+    }
     // From the lowest point's own height: a view takes each added point as the stretch
     // down to the next (range_splat.h's splat_stretches).
-    for (float z = c.z_min; z > ground_z - 0.5f * options.step_m; z -= options.step_m) {
-      added.emplace_back(low.x(), low.y(), std::max(z, ground_z));
+    for (float z = c.z_min; z > bottom - 0.5f * options.step_m; z -= options.step_m) {
+      added.emplace_back(low.x(), low.y(), std::max(z, bottom));
     }
     if (c.open_top && sensor) {
       ++s.open_tops;
@@ -192,21 +212,21 @@ SensorHeights sensor_heights(const Rig& rig, const std::optional<Eigen::Vector3f
 }
 
 Completion complete_columns(const SensorHeights& sensors, const std::vector<Eigen::Vector3f>& points,
-                            const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
+                            const std::vector<uint8_t>& flags, const std::optional<Eigen::Vector3f>& lidar,
                             const ColumnOptions& options) {
   Completion c;
   c.ground_z = estimate_ground_z(points, sensors.lowest);
   if (!c.ground_z) return c;
   ColumnOptions bounded = options;
   if (std::isfinite(sensors.highest)) bounded.lowest_base_z = std::min(options.lowest_base_z, sensors.highest + 0.5f);
-  c.points = column_points(points, open_top, *c.ground_z, bounded, &c.stats, lidar);
+  c.points = column_points(points, flags, *c.ground_z, bounded, &c.stats, lidar);
   return c;
 }
 
 Completion complete_columns(const Rig& rig, const std::vector<Eigen::Vector3f>& points,
-                            const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
+                            const std::vector<uint8_t>& flags, const std::optional<Eigen::Vector3f>& lidar,
                             const ColumnOptions& options) {
-  return complete_columns(sensor_heights(rig, lidar), points, open_top, lidar, options);
+  return complete_columns(sensor_heights(rig, lidar), points, flags, lidar, options);
 }
 
 }  // namespace omniview

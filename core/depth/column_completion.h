@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 
 #include "core/depth/flat_tops.h"
+#include "core/depth/free_space.h"
 #include "core/rig/rig.h"
 
 namespace omniview {
@@ -58,6 +59,11 @@ struct ColumnOptions {
   float flat_m = 0.1f;
   // At most this many points added (the longest columns are a storey of 5 cm steps).
   size_t max_points = 1'000'000;
+  // A column ends above where `see_through_rays` of the sensor's own rays (free_space.h)
+  // passed under its lowest point, within `see_through_m` of it (1 cm: a VLP-16's 0.2 deg
+  // steps are 7 mm apart at 2 m; wider, rays passing beside a box's side faces cut them).
+  float see_through_m = 0.01f;
+  int see_through_rays = 2;
   // Closed tops (the highest point of a cell the sensor saw over) joined across the cells
   // the rings skipped (flat_tops.h); its cell_m is this cell_m. max_gap_m 0: not joined.
   FlatTopOptions tops;
@@ -69,6 +75,7 @@ struct ColumnStats {
   size_t added = 0;    // points added
   size_t open_tops = 0;
   size_t top_points = 0;  // of `added`, points joining closed tops (flat_tops.h)
+  size_t seen_under = 0;  // columns cut short above where the sensor saw through
 };
 
 // The ground's height in a level frame (z up) as the most populated 2 cm slice of the
@@ -86,11 +93,21 @@ std::optional<float> estimate_ground_z(const std::vector<Eigen::Vector3f>& point
 std::vector<uint8_t> top_of_field(const std::vector<Eigen::Vector3f>& points, float tolerance_deg = 0.5f,
                                   float lowest_top_deg = 10.f);
 
+// Per point flags (`flags` below): on the top of its sensor's field (top_of_field's 1), and
+// measured from the `sensor` given with them (SensorRays::kSeenFrom: a lidar's newest
+// rotation; not a depth camera's points, nor an older rotation's, taken from elsewhere).
+inline constexpr uint8_t kTopOfField = 1;
+
+// The flags of one rotation of a spinning lidar, `points` in its own frame: each finite one
+// seen from the sensor (SensorRays::kSeenFrom), those on its top ring kTopOfField too.
+std::vector<uint8_t> lidar_flags(const std::vector<Eigen::Vector3f>& points);
+
 // The added points, in the points' own frame: `points` in a level frame (z up) with the
-// ground at ground_z; `open_top` empty or one flag per point (top_of_field). Non-finite
-// points are skipped. Closed tops are joined around `sensor` (the origin without one).
+// ground at ground_z; `flags` empty or one per point (above). Non-finite points are
+// skipped. Closed tops are joined around `sensor` (the origin without one); columns end
+// above where `sensor`'s own rays passed under them (free_space.h).
 std::vector<Eigen::Vector3f> column_points(const std::vector<Eigen::Vector3f>& points,
-                                           const std::vector<uint8_t>& open_top, float ground_z,
+                                           const std::vector<uint8_t>& flags, float ground_z,
                                            const ColumnOptions& options = {}, ColumnStats* stats = nullptr,
                                            const std::optional<Eigen::Vector3f>& sensor = std::nullopt);
 
@@ -102,15 +119,16 @@ std::optional<Eigen::Vector3f> lidar_origin(const Rig& rig, const std::string& f
 
 // The completion as the daemon's geometry, `omniview render --cloud` and the golden tests
 // make it: `points` in the rig's robot frame (z up), the ground estimated below the lowest
-// of its cameras and `lidar` (estimate_ground_z), open tops where `lidar` (the spinning
-// lidar's place) is known and `open_top` flags the points. No ground seen: no completion.
+// of its cameras and `lidar` (estimate_ground_z), open tops and seen-through space where
+// `lidar` (the spinning lidar's place) is known and `flags` tell them (column_points). No
+// ground seen: no completion.
 struct Completion {
   std::vector<Eigen::Vector3f> points;
   std::optional<float> ground_z;
   ColumnStats stats;
 };
 Completion complete_columns(const Rig& rig, const std::vector<Eigen::Vector3f>& points,
-                            const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
+                            const std::vector<uint8_t>& flags, const std::optional<Eigen::Vector3f>& lidar,
                             const ColumnOptions& options = {});
 
 // The same in two steps, for a caller that completes the points later than it has the rig:
@@ -121,7 +139,7 @@ struct SensorHeights {
 };
 SensorHeights sensor_heights(const Rig& rig, const std::optional<Eigen::Vector3f>& lidar);
 Completion complete_columns(const SensorHeights& sensors, const std::vector<Eigen::Vector3f>& points,
-                            const std::vector<uint8_t>& open_top, const std::optional<Eigen::Vector3f>& lidar,
+                            const std::vector<uint8_t>& flags, const std::optional<Eigen::Vector3f>& lidar,
                             const ColumnOptions& options = {});
 
 }  // namespace omniview

@@ -231,11 +231,10 @@ TEST(ColumnCompletion, TheViewTakesColumnsOnlyWhereNothingWasMeasured) {
   EXPECT_GT(compared, 1000);
 }
 
-// A crate 0.3 m below a VLP-16 (its top at z = 0, x 1.4 .. 2.0 m ahead, 0.8 m wide) on the
-// floor at kGround: two rings cross its top 0.35 m apart and the face's top ring lies
-// 2 cm under its edge; nothing between them.
-std::vector<Eigen::Vector3f> scan_crate(const Eigen::Vector3f& origin) {
-  const Eigen::Vector3f lo(1.4f, -0.4f, kGround), hi(2.0f, 0.4f, 0.f);
+// A VLP-16 at `origin` scanning a box [lo, hi] over the floor at kGround (0.2 deg steps
+// over +-40 deg; floor returns within 8 m, nothing from the sky).
+std::vector<Eigen::Vector3f> scan_box(const Eigen::Vector3f& origin, const Eigen::Vector3f& lo,
+                                      const Eigen::Vector3f& hi) {
   std::vector<Eigen::Vector3f> points;
   for (int ring = 0; ring < 16; ++ring) {
     const float el = (-15.f + 2.f * ring) * float(M_PI / 180);
@@ -256,6 +255,75 @@ std::vector<Eigen::Vector3f> scan_crate(const Eigen::Vector3f& origin) {
     }
   }
   return points;
+}
+
+// A crate 0.3 m below a VLP-16 (its top at z = 0, x 1.4 .. 2.0 m ahead, 0.8 m wide) on the
+// floor at kGround: two rings cross its top 0.35 m apart and the face's top ring lies
+// 2 cm under its edge; nothing between them.
+std::vector<Eigen::Vector3f> scan_crate(const Eigen::Vector3f& origin) {
+  return scan_box(origin, {1.4f, -0.4f, kGround}, {2.0f, 0.4f, 0.f});
+}
+
+std::vector<Eigen::Vector3f> in_sensor(std::vector<Eigen::Vector3f> points, const Eigen::Vector3f& origin) {
+  for (auto& p : points) p -= origin;
+  return points;
+}
+
+// A table's top (legs left out) 0.3 m above a VLP-16 and 0.8 m over the floor: the upper
+// rings see its underside, the lower ones the floor under and past it. The columns from
+// the underside stop above where those rays passed (the highest returning ring under it,
+// -5 deg, passes 0.15-0.2 m below the lidar there; the rings between saw the sky, no
+// return, no ray); a crate standing on the floor, whose foot no ray passes under, keeps
+// its columns down to the floor.
+TEST(ColumnCompletion, AColumnEndsAboveWhereTheLidarSawUnderIt) {
+  const Eigen::Vector3f lidar(0, 0, 0);
+  const std::vector<Eigen::Vector3f> table = scan_box(lidar, {1.2f, -0.5f, 0.3f}, {2.2f, 0.5f, 0.34f});
+  const auto under_the_table = [](const std::vector<Eigen::Vector3f>& added) {
+    return std::count_if(added.begin(), added.end(), [](const Eigen::Vector3f& p) {
+      return p.x() > 1.25f && p.x() < 2.15f && std::abs(p.y()) < 0.45f && p.z() < -0.15f;
+    });
+  };
+  ColumnStats stats;
+  const auto unseen = column_points(table, top_of_field(in_sensor(table, lidar)), kGround, {}, &stats, lidar);
+  EXPECT_EQ(stats.seen_under, 0u);
+  EXPECT_GT(under_the_table(unseen), 200) << "the columns filled the space under the table";
+  const auto seen = column_points(table, lidar_flags(in_sensor(table, lidar)), kGround, {}, &stats, lidar);
+  EXPECT_GT(stats.seen_under, 20u);
+  EXPECT_EQ(under_the_table(seen), 0);
+  // The underside itself stays (a column's top point is its lowest measured one).
+  EXPECT_GT(std::count_if(seen.begin(), seen.end(), [](const Eigen::Vector3f& p) { return std::abs(p.z() - 0.3f) < 0.01f; }),
+            20);
+
+  const Eigen::Vector3f high(0, 0, 0.3f);
+  const std::vector<Eigen::Vector3f> crate = scan_crate(high);
+  const auto plain = column_points(crate, top_of_field(in_sensor(crate, high)), kGround, {}, nullptr, high);
+  const auto judged = column_points(crate, lidar_flags(in_sensor(crate, high)), kGround, {}, &stats, high);
+  EXPECT_EQ(stats.seen_under, 0u);
+  EXPECT_EQ(plain.size(), judged.size());
+}
+
+// Rays judge free space only where they pass within the radius of the line, end past it,
+// and cross it between the floor and the object's lowest point; the second highest of two
+// counts (one stray return lowers nothing by itself).
+TEST(SensorRays, TheHighestCrossingOfRaysThatPassUnder) {
+  const Eigen::Vector3f sensor(0, 0, 1);
+  // Rays along +x ending on the floor at z = 0 past x = 2, and one stray ending at (4, 0, 0.9).
+  std::vector<Eigen::Vector3f> ends = {{4, 0, 0}, {8, 0, 0}, {3, 0, 0}, {4, 0, 0.9f}, {8, 0.5f, 0}};
+  std::vector<uint8_t> flags(ends.size(), SensorRays::kSeenFrom);
+  flags[2] = kTopOfField;  // not a ray of this sensor
+  const SensorRays rays(ends, flags, sensor);
+  // At x = 2 the rays to (4,0,0) and (8,0,0) pass at 0.5 and 0.75; the stray at 0.95.
+  const auto h = rays.highest_crossing({2, 0}, 0.97f, 0.f, 0.01f);
+  ASSERT_TRUE(h.has_value());
+  EXPECT_NEAR(*h, 0.75f, 1e-4f);
+  EXPECT_FALSE(rays.highest_crossing({2, 0}, 0.97f, 0.f, 0.01f, 4).has_value());
+  // Below the object's lowest point only: with it at 0.6, the one ray at 0.5 is too few.
+  EXPECT_FALSE(rays.highest_crossing({2, 0}, 0.6f, 0.f, 0.01f).has_value());
+  EXPECT_TRUE(rays.highest_crossing({2, 0}, 0.6f, 0.f, 0.01f, 1).has_value());
+  // Off the rays' line, past their ends, or with no ray: nothing known.
+  EXPECT_FALSE(rays.highest_crossing({2, 0.05f}, 0.97f, 0.f, 0.01f, 1).has_value());
+  EXPECT_FALSE(rays.highest_crossing({9, 0}, 0.97f, 0.f, 0.01f, 1).has_value());
+  EXPECT_FALSE(SensorRays(ends, std::vector<uint8_t>(ends.size(), 0), sensor).highest_crossing({2, 0}, 0.97f, 0.f, 0.01f, 1));
 }
 
 TEST(FlatTops, ACratesTopIsJoinedBetweenTheRingsThatCrossIt) {

@@ -95,11 +95,11 @@ Variants run(const ViewSpec& fixed_spec, std::shared_ptr<Rig> rig = nullptr) {
   const PointCloud scan = synthetic::scan_vlp16(scene, T_world_lidar, "lidar", std::chrono::system_clock::time_point{});
   const Pose T_view_lidar = T_frame_view.inverse() * rig->frames().lookup(frame, "lidar");
   // In the robot frame with the columns that complete them (column_completion.h), as the
-  // daemon's geometry makes them: open tops on the lidar's top ring.
+  // daemon's geometry makes them: open tops on the lidar's top ring, its rays from its place.
   const Pose T_robot_lidar = rig->frames().lookup(rig->default_frame(), "lidar");
   const Pose T_view_robot = T_frame_view.inverse() * rig->frames().lookup(frame, rig->default_frame());
   const std::vector<Eigen::Vector3f> lidar_points = moved(scan.points, T_robot_lidar);
-  const Completion lidar_columns = complete_columns(*rig, lidar_points, top_of_field(scan.points),
+  const Completion lidar_columns = complete_columns(*rig, lidar_points, lidar_flags(scan.points),
                                                     T_robot_lidar.translation().cast<float>());
   DepthStats stats;
   const auto lidar_view = surface.update(lidar_points, T_view_robot, &stats, &lidar_columns.points);

@@ -35,13 +35,13 @@ bool SourceGeometry::take(const PointCloud& cloud, const Rig& rig) {
     const Eigen::Matrix3f R = T_robot_cloud->linear().cast<float>();
     const Eigen::Vector3f t = T_robot_cloud->translation().cast<float>();
     entry.points.reserve(cloud.points.size());
-    std::vector<Eigen::Vector3f> finite;  // in the cloud's own frame, for its top ring
+    std::vector<Eigen::Vector3f> finite;  // in the cloud's own frame, for its top ring and rays
     finite.reserve(cloud.points.size());
     for (const auto& p : cloud.points) {
       if (p.allFinite()) entry.points.push_back(R * p + t), finite.push_back(p);
     }
     if (!from_camera) entry.lidar = lidar_origin(rig, cloud.frame);
-    if (entry.lidar) entry.top = top_of_field(finite);
+    if (entry.lidar) entry.flags = lidar_flags(finite);
   }
   std::lock_guard lock(mutex_);
   if (!T_robot_cloud || entry.points.empty()) {
@@ -73,12 +73,16 @@ void SourceGeometry::rebuild(const Rig& rig, const Trajectory* motion, std::chro
   // the two; none known: the robot is taken to be still).
   auto points = std::make_shared<std::vector<Eigen::Vector3f>>();
   points->reserve(std::min(total, options_.max_points));
-  // Per point: on a lidar's top ring; empty when no cloud told its top ring.
-  const bool told = std::any_of(clouds_.begin(), clouds_.end(), [](const Cloud& c) { return !c.top.empty(); });
-  std::vector<uint8_t> top;
-  if (told) top.reserve(points->capacity());
+  // Per point: on a lidar's top ring, and seen from the newest lidar cloud's place (the
+  // older rotations' rays started where the robot stood then); empty when no cloud told.
+  const bool told = std::any_of(clouds_.begin(), clouds_.end(), [](const Cloud& c) { return !c.flags.empty(); });
+  std::vector<uint8_t> flags;
+  if (told) flags.reserve(points->capacity());
+  const Cloud* newest_lidar = nullptr;
+  for (const auto& c : clouds_) {
+    if (c.lidar && (!newest_lidar || c.stamp >= newest_lidar->stamp)) newest_lidar = &c;
+  }
   std::optional<Eigen::Vector3f> lidar;  // the newest lidar cloud's, moved to now
-  auto newest_lidar = std::chrono::system_clock::time_point::min();
   for (const auto& c : clouds_) {
     const Pose T_now_then = motion ? motion->relative(newest, c.stamp) : Pose::Identity();
     const Eigen::Matrix3f R = T_now_then.linear().cast<float>();
@@ -87,15 +91,16 @@ void SourceGeometry::rebuild(const Rig& rig, const Trajectory* motion, std::chro
     const size_t step = c.points.size() > options_.max_points
                             ? (c.points.size() + options_.max_points - 1) / options_.max_points
                             : 1;
+    const uint8_t keep = &c == newest_lidar ? 0xff : uint8_t(~SensorRays::kSeenFrom);
     for (size_t i = 0; i < c.points.size(); i += step) {
       points->push_back(R * c.points[i] + t);
-      if (told) top.push_back(c.top.empty() ? 0 : c.top[i]);
+      if (told) flags.push_back(c.flags.empty() ? 0 : c.flags[i] & keep);
     }
-    if (c.lidar && c.stamp >= newest_lidar) lidar = R * *c.lidar + t, newest_lidar = c.stamp;
+    if (&c == newest_lidar) lidar = R * *c.lidar + t;
   }
   GeometrySnapshot snapshot;
   snapshot.version = ++version_;
-  snapshot.completion = std::make_shared<const LazyCompletion>(points, std::move(top), lidar, sensor_heights(rig, lidar));
+  snapshot.completion = std::make_shared<const LazyCompletion>(points, std::move(flags), lidar, sensor_heights(rig, lidar));
   snapshot.points = std::move(points);
   snapshot.frame = rig.default_frame();
   snapshot.stamp = newest;
@@ -106,7 +111,7 @@ void SourceGeometry::rebuild(const Rig& rig, const Trajectory* motion, std::chro
 }
 
 const Completion& LazyCompletion::get() const {
-  std::call_once(once_, [this] { completion_ = complete_columns(sensors_, *points_, top_, lidar_); });
+  std::call_once(once_, [this] { completion_ = complete_columns(sensors_, *points_, flags_, lidar_); });
   return completion_;
 }
 

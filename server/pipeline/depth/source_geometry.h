@@ -45,15 +45,16 @@ struct GeometryOptions {
 // and 2 Hz depth images took a seventh of a core whether or not a view took them.
 class LazyCompletion {
  public:
-  LazyCompletion(std::shared_ptr<const std::vector<Eigen::Vector3f>> points, std::vector<uint8_t> top,
+  // `flags`: per point, as column_points takes them (empty: none told).
+  LazyCompletion(std::shared_ptr<const std::vector<Eigen::Vector3f>> points, std::vector<uint8_t> flags,
                  std::optional<Eigen::Vector3f> lidar, SensorHeights sensors)
-      : points_(std::move(points)), top_(std::move(top)), lidar_(lidar), sensors_(sensors) {}
+      : points_(std::move(points)), flags_(std::move(flags)), lidar_(lidar), sensors_(sensors) {}
   // Made once, by the first caller; the others wait for it.
   const Completion& get() const;
 
  private:
   std::shared_ptr<const std::vector<Eigen::Vector3f>> points_;
-  std::vector<uint8_t> top_;
+  std::vector<uint8_t> flags_;
   std::optional<Eigen::Vector3f> lidar_;
   SensorHeights sensors_;
   mutable std::once_flag once_;
@@ -121,7 +122,7 @@ class SourceGeometry {
     std::chrono::system_clock::time_point stamp;
     std::chrono::milliseconds keep;
     std::vector<Eigen::Vector3f> points;  // in the robot frame at `stamp`
-    std::vector<uint8_t> top;             // per point: on the lidar's top ring (empty: none told)
+    std::vector<uint8_t> flags;           // per point: lidar_flags (empty: no lidar's, or none told)
     std::optional<Eigen::Vector3f> lidar; // the lidar's place in the robot frame at `stamp`
   };
   bool take(const PointCloud& cloud, const Rig& rig);  // false: skipped
