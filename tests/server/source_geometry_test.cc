@@ -49,6 +49,16 @@ class Geometry : public ::testing::Test {
   const Rig rig = synthetic::spot_like_rig();
   const std::string body = rig.default_frame();
   const std::chrono::steady_clock::time_point arrival = std::chrono::steady_clock::now();
+
+  // A lidar's cloud delivered in the robot frame instead (no sensor known), as a geometry
+  // alone makes it.
+  GeometrySnapshot completed_in_robot_frame(PointCloud cloud, const Rig& with_lidar, const Pose& T_body_lidar) const {
+    cloud.frame = body;
+    for (auto& p : cloud.points) p = (T_body_lidar * p.cast<double>()).cast<float>();
+    SourceGeometry unknown_sensor;
+    unknown_sensor.add(cloud, with_lidar, nullptr, arrival);
+    return *unknown_sensor.latest();
+  }
 };
 
 TEST_F(Geometry, AMovingRobotsCloudsAreAccumulatedWhereTheWorldIs) {
@@ -226,13 +236,8 @@ TEST_F(Geometry, ALidarsCloudIsCompletedByColumnsPastItsTopRing) {
   EXPECT_GT(highest, top_ring + 0.2f);
 
   // The same points delivered in the robot frame: columns, but none past the top.
-  PointCloud in_body = cloud;
-  in_body.frame = body;
-  for (auto& p : in_body.points) p = (T_body_lidar * p.cast<double>()).cast<float>();
-  SourceGeometry unknown_sensor;
-  unknown_sensor.add(in_body, with_lidar, nullptr, arrival);
-  const auto down_only_snapshot = unknown_sensor.latest();
-  const Completion& down_only = down_only_snapshot->completion->get();
+  const auto down_only_snapshot = completed_in_robot_frame(cloud, with_lidar, T_body_lidar);
+  const Completion& down_only = down_only_snapshot.completion->get();
   EXPECT_GT(down_only.stats.columns, 10u);
   EXPECT_EQ(down_only.stats.open_tops, 0u);
 }
@@ -290,13 +295,8 @@ TEST_F(Geometry, AColumnUnderATableEndsAboveWhereTheNewestRotationSawThrough) {
   EXPECT_EQ(under_the_table(again), 0);
 
   // The same points in the robot frame (no sensor known): no rays, the columns reach the floor.
-  PointCloud in_body = table_scan(kT0);
-  in_body.frame = body;
-  for (auto& p : in_body.points) p = (T_body_lidar * p.cast<double>()).cast<float>();
-  SourceGeometry unknown_sensor;
-  unknown_sensor.add(in_body, with_lidar, nullptr, arrival);
-  const auto blind = unknown_sensor.latest();
-  const Completion& filled = blind->completion->get();
+  const auto blind = completed_in_robot_frame(table_scan(kT0), with_lidar, T_body_lidar);
+  const Completion& filled = blind.completion->get();
   EXPECT_EQ(filled.stats.seen_under, 0u);
   EXPECT_GT(under_the_table(filled), 100);
 }
