@@ -166,14 +166,16 @@ void BM_DepthJudgedOnly(benchmark::State& state, int rotations) {
   for (auto _ : state) benchmark::DoNotOptimize(view->occlusion_judged());
 }
 
-void BM_DepthMapOnly(benchmark::State& state, int rotations, MapPrecision precision) {
-  const ViewSpec spec = front_view(Depth::kMeasured);
+void BM_DepthMapOnly(benchmark::State& state, int rotations, MapPrecision precision, Fusion fusion) {
+  ViewSpec spec = front_view(Depth::kMeasured);
+  spec.fusion = fusion;
   const auto& points = lidar_points(rotations);
   const Pose T_view_body = spec.T_frame_view().inverse();
   const auto view = DepthSurface(spec).update(points, T_view_body);
   const Occlusion occlusion = view_occlusion(range_images(), *view, points, T_view_body);
+  const FeatherSet feathers = feather_set(rig(), spec.feather_px);  // made once per view, as the daemon does
   for (auto _ : state) {
-    benchmark::DoNotOptimize(build_map(rig(), *view, precision, Sampling::kFootprint, &occlusion));
+    benchmark::DoNotOptimize(build_map(rig(), *view, precision, Sampling::kFootprint, &occlusion, &feathers));
   }
 }
 
@@ -203,8 +205,10 @@ BENCHMARK_CAPTURE(BM_DepthSurfacePerPixel, vlp16_10_rotations, 10)->Unit(benchma
 BENCHMARK_CAPTURE(BM_DepthOcclusionOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthOcclusionOnly, vlp16_10_rotations, 10)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_DepthJudgedOnly, vlp16_1_rotation, 1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_DepthMapOnly, vlp16_1_rotation, 1, MapPrecision::kAdaptive)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_DepthMapOnly, vlp16_1_rotation_exact, 1, MapPrecision::kExact)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthMapOnly, vlp16_1_rotation, 1, MapPrecision::kAdaptive, Fusion::kNearestCentre)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthMapOnly, vlp16_1_rotation_exact, 1, MapPrecision::kExact, Fusion::kNearestCentre)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthMapOnly, vlp16_1_rotation_blend, 1, MapPrecision::kAdaptive, Fusion::kBlend)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_DepthMapOnly, vlp16_1_rotation_blend_exact, 1, MapPrecision::kExact, Fusion::kBlend)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_FixedMapBuild, adaptive, MapPrecision::kAdaptive)
     ->Name("BM_Anchor_fixed_map_build/front_1024x512")->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(BM_FixedMapBuild, exact, MapPrecision::kExact)

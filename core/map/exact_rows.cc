@@ -77,8 +77,10 @@ void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, 
         if (s.score[i] == kInvalid) continue;
         const float feather = c.feather.at<float>(static_cast<int>(s.v[i] + 0.5f), static_cast<int>(s.u[i] + 0.5f));
         if (feather <= 0) continue;
-        // In the log domain: the centre term's factors span many orders of magnitude.
-        const float weight = std::log(feather) - c.centre_falloff * std::sqrt(s.score[i]);
+        // In the log domain: the centre term's factors span many orders of magnitude. Most
+        // of a camera's pixels are at full feather weight, and their log is 0.
+        const float weight = (feather < 1 ? std::log(feather) : 0.0f) - c.centre_falloff * std::sqrt(s.score[i]);
+        if (weight <= second[i]) continue;  // encoded only when kept
         uint32_t e_rest;
         const uint32_t e_offset = encode(c.limits, s.u[i], s.v[i], static_cast<uint32_t>(ci), e_rest);
         const MapEntry e = make_entry(e_offset, e_rest);
@@ -87,7 +89,7 @@ void build_rows_exact(const View& view, const std::vector<CameraSetup>& setups, 
           secondary[i] = primary[i];
           best[i] = weight;
           primary[i] = e;
-        } else if (weight > second[i]) {
+        } else {
           second[i] = weight;
           secondary[i] = e;
         }

@@ -23,7 +23,7 @@ using namespace map_internal;
 
 
 CameraSetup make_setup(const Rig& rig, size_t index, const Pose& T_frame_view,
-                       const std::string& frame, bool blend, double feather_px) {
+                       const std::string& frame, bool blend, double feather_px, const FeatherSet* feathers) {
   const Camera& cam = rig.cameras()[index];
   CameraSetup s;
   s.camera = &cam;
@@ -42,7 +42,7 @@ CameraSetup make_setup(const Rig& rig, size_t index, const Pose& T_frame_view,
                           cam.width};
   s.centre = CentreScore::of(cam);
   if (blend) {
-    s.feather = feather_weights(cam, feather_px);
+    s.feather = feathers ? feathers->weights[index] : feather_weights(cam, feather_px);
     const Eigen::Vector3d c = T_cam_view.inverse().translation();
     for (int r = 0; r < 3; ++r) s.centre_view[r] = static_cast<float>(c(r));
     // sqrt(score) * width is (about) the distance from the image centre in pixels: a pixel
@@ -64,7 +64,7 @@ double FusionMap::coverage() const {
 }
 
 FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sampling sampling,
-                    const Occlusion* occlusion) {
+                    const Occlusion* occlusion, const FeatherSet* feathers) {
   const auto& cameras = rig.cameras();
   if (cameras.size() >= kNoCamera) {
     throw std::invalid_argument("a rig may have at most 254 cameras, this one has " + std::to_string(cameras.size()));
@@ -84,13 +84,14 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
     throw std::invalid_argument("view '" + spec.name + "': occlusion's pixel mask is not the view's size");
   }
   const Pose T_frame_view = spec.T_frame_view();
+  if (feathers && !feathers->fits(rig, spec.feather_px)) feathers = nullptr;
   std::vector<CameraSetup> setups;
   for (size_t i = 0; i < cameras.size(); ++i) {
     if (!rig.frames().try_lookup(frame, cameras[i].name)) {
       throw std::invalid_argument("view '" + spec.name + "': frame '" + frame + "' is not connected to camera '" +
                                   cameras[i].name + "'");
     }
-    setups.push_back(make_setup(rig, i, T_frame_view, frame, blend, spec.feather_px));
+    setups.push_back(make_setup(rig, i, T_frame_view, frame, blend, spec.feather_px, feathers));
   }
 
   FusionMap map;

@@ -15,6 +15,7 @@
 
 #include "core/rig/camera_index.h"
 #include "core/map/occlusion.h"
+#include "core/map/usable_region.h"
 #include "core/rig/rig.h"
 #include "core/view/view.h"
 
@@ -96,7 +97,10 @@ enum class Sampling { kFootprint, kBilinear };
 // black. The adaptive builder interpolates on measured depth and with occlusion only where
 // the surface is smooth between its samples and no occluder's edge crosses the block
 // (adaptive/bands.cc, may_interpolate).
+// `feathers` (optional, blend only): the cameras' feather weights made beforehand; used
+// where they fit the rig and the view's feather_px, else made here.
 FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision = MapPrecision::kAdaptive,
-                    Sampling sampling = Sampling::kFootprint, const Occlusion* occlusion = nullptr);
+                    Sampling sampling = Sampling::kFootprint, const Occlusion* occlusion = nullptr,
+                    const FeatherSet* feathers = nullptr);
 
 }  // namespace omniview

@@ -44,4 +44,11 @@ cv::Mat feather_weights(const Camera& cam, double feather_px) {
   return weights;
 }
 
+FeatherSet feather_set(const Rig& rig, double feather_px) {
+  FeatherSet set;
+  set.feather_px = feather_px;
+  for (const Camera& cam : rig.cameras()) set.weights.push_back(feather_weights(cam, feather_px));
+  return set;
+}
+
 }  // namespace omniview

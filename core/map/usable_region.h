@@ -4,7 +4,10 @@
 
 #include <opencv2/core/mat.hpp>
 
+#include <vector>
+
 #include "core/camera/camera.h"
+#include "core/rig/rig.h"
 
 namespace omniview {
 
@@ -14,5 +17,19 @@ cv::Mat usable_region(const Camera& camera);
 
 // CV_32F of the camera's size: min(1, distance to the region's edge / feather_px).
 cv::Mat feather_weights(const Camera& camera, double feather_px);
+
+// Every rig camera's feather_weights for one feather width. A blend map rebuilt at every
+// geometry update (a measured-depth view) takes them from here: made anew, the distance
+// transforms cost a third of its build.
+struct FeatherSet {
+  double feather_px = 0;
+  std::vector<cv::Mat> weights;  // per rig camera
+
+  // Whether these are the weights a map of `rig`'s cameras with `feather_px` needs.
+  bool fits(const Rig& rig, double feather) const {
+    return feather == feather_px && weights.size() == rig.cameras().size();
+  }
+};
+FeatherSet feather_set(const Rig& rig, double feather_px);
 
 }  // namespace omniview

@@ -26,6 +26,7 @@ namespace omniview {
 // A view with `depth: measured`: the surface its map stands on, and the geometry it came from.
 struct ViewDepth {
   std::shared_ptr<const DepthSurface> surface;  // the view's rays and fixed surface (per revision)
+  std::shared_ptr<const FeatherSet> feathers;   // blend: the rig cameras' weights, made once per revision
   uint64_t geometry_version = 0;                // of the geometry the map stands on; 0: none yet
   std::chrono::steady_clock::time_point geometry_arrival{};  // its newest cloud's: the age shown
   std::chrono::steady_clock::time_point geometry_ready{};    // freshness counts from here

@@ -112,7 +112,8 @@ void Pipeline::apply_measured_depth(ViewState& state, const GeometrySnapshot& ge
   // pixels judged are this view's.
   const auto occluders = this->geometry(state.spec.source).occluders(geometry, state.rig, ViewOcclusionOptions{});
   const Occlusion occlusion = for_view(*occluders, *view);
-  state.map = std::make_shared<const FusionMap>(build_map(rig, *view, MapPrecision::kAdaptive, Sampling::kFootprint, &occlusion));
+  state.map = std::make_shared<const FusionMap>(build_map(rig, *view, MapPrecision::kAdaptive, Sampling::kFootprint, &occlusion,
+                                                                depth->feathers.get()));
   state.view = view;
   state.coverage = state.map->coverage();
   depth->geometry_version = geometry.version;

@@ -95,6 +95,7 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
     auto depth = std::make_shared<ViewDepth>();
     try {
       depth->surface = std::make_shared<const DepthSurface>(spec);
+      if (spec.fusion == Fusion::kBlend) depth->feathers = std::make_shared<const FeatherSet>(feather_set(r, spec.feather_px));
     } catch (const std::invalid_argument& e) {
       throw PipelineError(ErrorKind::kInvalidArgument, e.what());
     }
