@@ -99,7 +99,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
   map.height = view.height();
   map.fusion = spec.fusion;
   const size_t n = static_cast<size_t>(map.width) * static_cast<size_t>(map.height);
-  const bool exact = blend || precision == MapPrecision::kExact || map.width < 2 || map.height < 2;
+  const bool exact = precision == MapPrecision::kExact || map.width < 2 || map.height < 2;
   if (cameras.empty()) {
     // A rig whose cameras are not known yet (a robot that has not answered): all black.
     map.primary.assign(n, kBlackEntry);
@@ -153,7 +153,7 @@ FusionMap build_map(const Rig& rig, const View& view, MapPrecision precision, Sa
     parallel_rows(cv::Range(0, tasks), [&](const cv::Range& range) {
       std::vector<uint8_t> local(cameras.size(), 0);
       const int end = std::min(bands, range.end * kBandsPerTask);
-      build_bands_adaptive(view, setups, map, range.start * kBandsPerTask, end, local, occlusion);
+      build_bands_adaptive(view, setups, map, range.start * kBandsPerTask, end, local, occlusion, blend);
       for (size_t c = 0; c < local.size(); ++c) {
         if (local[c]) used[c].store(true, std::memory_order_relaxed);
       }

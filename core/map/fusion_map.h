@@ -81,7 +81,8 @@ struct FusionMap {
 
 // kAdaptive (the default) evaluates the camera models exactly on an 8-pixel grid and
 // interpolates inside blocks where that is provably within 0.05 px (see adaptive/bands.h);
-// kExact evaluates every pixel. Blend maps are always exact.
+// kExact evaluates every pixel. A blend map is interpolated only where a single camera
+// sees the block; where cameras overlap every pixel is exact.
 enum class MapPrecision { kAdaptive, kExact };
 
 // kFootprint (the default) moves entries whose output pixel covers 4 or more camera

@@ -4,7 +4,7 @@
 // hidden) nor black where it has one, coordinates within a fraction of a pixel. On the
 // furnished room, from one VLP-16 rotation (rings, gaps, silhouettes) and from the exact
 // depth of the scene, for a front, a bird's-eye and a panorama view, on Spot's cameras and
-// on a ring of four.
+// on a ring of four; nearest-centre and blend.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -54,11 +54,24 @@ Agreement compare(const Rig& rig, const FusionMap& exact, const FusionMap& adapt
           seen_same ? double(close) / double(seen_same) : 1.0, worst};
 }
 
-void expect_agreement(const ViewSpec& fixed_spec, std::shared_ptr<Rig> rig = nullptr) {
+// Blend maps (the default fusion): where two cameras see a pixel, the adaptive builder
+// makes the blend rule's entries exactly, so the second camera and the weights agree but
+// for slivers where a camera's region pokes between a block's samples.
+double blend_agreement(const FusionMap& exact, const FusionMap& adaptive) {
+  size_t same = 0;
+  for (size_t i = 0; i < exact.primary.size(); ++i) {
+    same += exact.secondary[i].cam == adaptive.secondary[i].cam &&
+            exact.primary_weight[i] == adaptive.primary_weight[i];
+  }
+  return double(same) / double(exact.primary.size());
+}
+
+void expect_agreement(const ViewSpec& fixed_spec, std::shared_ptr<Rig> rig = nullptr, Fusion fusion = Fusion::kNearestCentre) {
   const synthetic::Scene scene = test::furnished_room();
   if (!rig) rig = test::rig_in_world(test::T_world_body());
   ViewSpec spec = fixed_spec;
   spec.depth = Depth::kMeasured;
+  spec.fusion = fusion;
   const DepthSurface surface(spec);
   const std::string frame = spec.frame.empty() ? rig->default_frame() : spec.frame;
   const Pose T_world_lidar = test::T_world_body() * test::T_body_lidar();
@@ -97,6 +110,12 @@ void expect_agreement(const ViewSpec& fixed_spec, std::shared_ptr<Rig> rig = nul
     // Measured: all within 0.1 px, the worst 0.074 px (the bird's-eye view on one rotation).
     EXPECT_GE(a.within_tenth, 0.999) << spec.name << ", " << in.name;
     EXPECT_LE(a.worst_px, 0.15) << spec.name << ", " << in.name;
+    if (fusion == Fusion::kBlend) {
+      const double blend = blend_agreement(exact, adaptive);
+      std::cout << "[ adaptive ] " << spec.name << ", " << in.name << ", blend: second camera and weight the same at "
+                << 100 * blend << " %\n";
+      EXPECT_GE(blend, 0.998) << spec.name << ", " << in.name;
+    }
   }
 }
 
@@ -109,6 +128,12 @@ TEST(AdaptiveDepthMap, PanoramaAgreesWithExact) { expect_agreement(test::panoram
 TEST(AdaptiveDepthMap, RingOfFourAgreesWithExact) {
   expect_agreement(test::birdseye_spec("ring_birdseye"), test::ring_of_four());
   expect_agreement(test::panorama_spec("ring_panorama"), test::ring_of_four());
+}
+
+TEST(AdaptiveDepthMap, BlendAgreesWithExact) {
+  expect_agreement(test::front_spec(), nullptr, Fusion::kBlend);
+  expect_agreement(test::birdseye_spec(), nullptr, Fusion::kBlend);
+  expect_agreement(test::panorama_spec("ring_panorama"), test::ring_of_four(), Fusion::kBlend);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/map/adaptive/blend_pixels.h"
 #include "core/map/adaptive/block_plan.h"
 #include "core/map/adaptive/patch_writer.h"
 #include "core/map/adaptive/winners.h"
@@ -27,10 +28,11 @@ constexpr int kNewOnLatticeRows = 2;  // columns 2 and 6
 class BandBuilder {
  public:
   BandBuilder(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, std::vector<uint8_t>& used,
-              const Occlusion* occlusion)
-      : view_(view), setups_(setups), occlusion_(occlusion), map_(map), used_(used), sampler_(view, setups, occlusion),
+              const Occlusion* occlusion, bool blend)
+      : view_(view), setups_(setups), occlusion_(occlusion), blend_(blend), map_(map), used_(used),
+        sampler_(view, setups, occlusion, blend), blend_pixels_(view, setups, occlusion),
         xs_(grid_lines(map.width)),
-        ys_(grid_lines(map.height)), exact_columns_(kBlock + 1) {
+        ys_(grid_lines(map.height)), exact_columns_(kBlock + 1), shared_columns_(kBlock + 1) {
     const int blocks = static_cast<int>(xs_.size()) - 1;
     for (int j = 0; j < blocks; ++j) columns_.insert(columns_.end(), {xs_[j], (xs_[j] + xs_[j + 1]) / 2});
     columns_.push_back(xs_[blocks]);
@@ -49,6 +51,7 @@ class BandBuilder {
     sample_lattice_row(yb_, bottom_);
     patches_.clear(), refined_.clear(), black_.clear();
     for (auto& c : exact_columns_) c.clear();
+    for (auto& c : shared_columns_) c.clear();
     plan_blocks();
     if (!refined_.empty()) plan_refined_blocks();
     // Every pixel of the band once: interpolated, black or exact.
@@ -82,6 +85,8 @@ class BandBuilder {
         black_.push_back(b);
       } else if (plan != BlockPlan::kExact) {
         used_[b.cam[0][0]] = 1;
+      } else if (blend_ && any_shared(b)) {
+        add_exact(b, /*shared=*/true);
       } else if (b.x[2] - b.x[0] == kBlock && b.y[2] - b.y[0] == kBlock) {
         refined_.push_back(j);
       } else {
@@ -147,6 +152,7 @@ class BandBuilder {
   template <int N>
   void set_sample(Lattice<N>& b, int p, int k, const Winners& w, size_t i) const {
     b.u[p][k] = w.u[i], b.v[p][k] = w.v[i], b.cam[p][k] = w.cam[i], b.on_surface[p][k] = w.on_surface[i];
+    b.shared[p][k] = blend_ ? w.shared[i] : 0;
     if (keep_points_) {
       b.px[p][k] = w.x[i], b.py[p][k] = w.y[i], b.pz[p][k] = w.z[i], b.better_hidden[p][k] = w.better_hidden[i];
     } else {
@@ -159,8 +165,21 @@ class BandBuilder {
   // sample, the occlusion test applies to all of the block's pixels or none, and the
   // winner's covering depth over the block's footprint in its image hides none of it
   // (a thin occluder between two samples would otherwise be interpolated over).
+  // Blend: two cameras see a sample (a block in their overlap is exact, refined no further).
+  template <int N>
+  bool any_shared(const Lattice<N>& b) const {
+    for (int p = 0; p < N; ++p) {
+      for (int k = 0; k < N; ++k) {
+        if (b.shared[p][k]) return true;
+      }
+    }
+    return false;
+  }
+
+  // A blend map's block is interpolated only where one camera sees every sample.
   template <int N>
   bool may_interpolate(const Lattice<N>& b) const {
+    if (blend_ && any_shared(b)) return false;
     if (!keep_points_) return true;
     if (!view_.smooth_over(b.x[0], b.y[0], b.x[N - 1], b.y[N - 1], depth_tolerance(b))) return false;
     if (!occlusion_) return true;
@@ -237,9 +256,12 @@ class BandBuilder {
     return n;
   }
 
-  void add_exact(const BlockLattice& b) {
+  // `shared`: a blend map's block two cameras see at some sample: the blend rule at every
+  // pixel, without first asking the winner sampler whether one camera sees it.
+  void add_exact(const BlockLattice& b, bool shared = false) {
+    auto& rows = shared ? shared_columns_ : exact_columns_;
     for (int y = b.y[0]; y < b.y_end; ++y) {
-      std::vector<int>& columns = exact_columns_[y - ya_];
+      std::vector<int>& columns = rows[y - ya_];
       for (int x = b.x[0]; x < b.x_end; ++x) columns.push_back(x);
     }
   }
@@ -249,11 +271,17 @@ class BandBuilder {
   void write_exact_rows() {
     for (int y = ya_; y < row_end_; ++y) {
       const std::vector<int>& columns = exact_columns_[y - ya_];
-      if (columns.empty()) continue;
+      std::vector<int>& shared = shared_columns_[y - ya_];
       const int n = static_cast<int>(columns.size());
-      sampler_.sample(y, columns.data(), n, exact_);
+      if (n > 0) sampler_.sample(y, columns.data(), n, exact_);
       MapEntry* row = entry(0, y);
       for (int i = 0; i < n; ++i) {
+        // Blend: where one camera sees the pixel, its entry at full weight is the blend's
+        // (secondary and weight stay as allocated); where two do, the blend rule's entries.
+        if (blend_ && exact_.shared[i]) {
+          shared.push_back(columns[i]);
+          continue;
+        }
         const uint32_t cam = exact_.cam[i];
         if (cam == kNoCamera) {
           row[columns[i]] = kBlackEntry;
@@ -264,16 +292,19 @@ class BandBuilder {
         row[columns[i]] = make_entry(offset, rest);
         used_[cam] = 1;
       }
+      blend_pixels_.write(y, shared.data(), static_cast<int>(shared.size()), map_, used_);
     }
   }
 
   const View& view_;
   const std::vector<CameraSetup>& setups_;
   const Occlusion* occlusion_;
+  const bool blend_;
   const bool keep_points_ = occlusion_ || view_.measured();  // the samples' surface points (Winners)
   FusionMap& map_;
   std::vector<uint8_t>& used_;
   WinnerSampler sampler_;
+  BlendPixels blend_pixels_;  // blend: the exact pixels' entries
   const std::vector<int> xs_, ys_;
   std::vector<int> columns_;  // lattice columns: grid lines at even indices, midpoints at odd
   int ya_ = 0, yc_ = 0, yb_ = 0, row_end_ = 0;
@@ -283,6 +314,7 @@ class BandBuilder {
   std::vector<int> refined_;                     // blocks given the fine lattice
   std::vector<BlockLattice> black_;              // blocks off the view's surface
   std::vector<int> fine_columns_;
+  std::vector<std::vector<int>> shared_columns_;  // blend: per row of the band, the pixels two cameras see
   Winners fine_[kFine];  // the split blocks' new samples, per row of their 5x5 lattice
   Winners exact_;
 };
@@ -290,8 +322,8 @@ class BandBuilder {
 }  // namespace
 
 void build_bands_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band_begin,
-                          int band_end, std::vector<uint8_t>& used, const Occlusion* occlusion) {
-  BandBuilder builder(view, setups, map, used, occlusion);
+                          int band_end, std::vector<uint8_t>& used, const Occlusion* occlusion, bool blend) {
+  BandBuilder builder(view, setups, map, used, occlusion, blend);
   for (int band = band_begin; band < band_end; ++band) builder.build(band, band > band_begin);
 }
 

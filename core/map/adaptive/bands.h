@@ -35,8 +35,13 @@ namespace omniview::map_internal {
 // their lattice rows, so a worker should take a run of them. Sets used[c] for every camera
 // c the rows read.
 // `occlusion` (optional): as build_map's; see BandBuilder::may_interpolate for what it adds.
+// `blend`: a blend map (map.secondary and primary_weight allocated, black and 256 where a
+// single camera sees the pixel, which the builder leaves as they are): a block is
+// interpolated only where a single camera sees all its samples, every other pixel gets the
+// blend rule's entries exactly (blend_pixels.h).
 void build_bands_adaptive(const View& view, const std::vector<CameraSetup>& setups, FusionMap& map, int band_begin,
-                          int band_end, std::vector<uint8_t>& used, const Occlusion* occlusion = nullptr);
+                          int band_end, std::vector<uint8_t>& used, const Occlusion* occlusion = nullptr,
+                          bool blend = false);
 
 // Number of bands of a map of `height` rows (>= 2).
 inline int adaptive_band_count(int height) { return (height - 2) / kBlock + 1; }

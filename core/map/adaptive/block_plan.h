@@ -24,6 +24,7 @@ struct Lattice {
   // With occlusion only (Winners): the surface points and whether a better camera was hidden.
   float px[N][N], py[N][N], pz[N][N];
   uint8_t better_hidden[N][N];
+  uint8_t shared[N][N];  // blend only: two or more cameras see the sample
 };
 using BlockLattice = Lattice<3>;  // corners, edge midpoints, centre
 using FineLattice = Lattice<5>;   // a full 8x8 block every 2 pixels

@@ -34,7 +34,7 @@ constexpr int kVector = 8, kMinBatch = 32;
 OMNIVIEW_MULTIVERSION
 void compete(const CameraSetup& c, uint32_t cam, int n, RowScratch& s, float* best, float* out_u, float* out_v,
              uint32_t* out_cam, const CameraOccluder* occluder, const Occlusion* rule, const uint8_t* judged,
-             float* best_unoccluded) {
+             float* best_unoccluded, uint8_t* seen_by) {
   project_camera_row(c, n, s.x.data(), s.y.data(), s.z.data(), s.valid.data(), s.u.data(), s.v.data(),
                      s.score.data());
   if (!c.camera->mask.empty()) {
@@ -48,6 +48,9 @@ void compete(const CameraSetup& c, uint32_t cam, int n, RowScratch& s, float* be
   if (occluder && !occluder->empty()) {
     drop_hidden(c, *occluder, *rule, n, judged, s.x.data(), s.y.data(), s.z.data(), s.u.data(), s.v.data(),
                 s.score.data());
+  }
+  if (seen_by) {
+    for (int i = 0; i < n; ++i) seen_by[i] += s.score[i] != kInvalid;
   }
   keep_better(cam, n, s.u.data(), s.v.data(), s.score.data(), best, out_u, out_v, out_cam);
 }
@@ -90,10 +93,28 @@ void WinnerSampler::sample(int row, const int* columns, int n, Winners& out) {
     best_unoccluded_.resize(best_.size());
     std::fill_n(best_unoccluded_.begin(), padded, kInvalid);
   }
+  if (blend_) {
+    seen_by_.resize(std::max(seen_by_.size(), static_cast<size_t>(padded)));
+    std::fill_n(seen_by_.begin(), padded, 0);
+  }
   for (size_t ci = 0; ci < setups_.size(); ++ci) {
     compete(setups_[ci], static_cast<uint32_t>(ci), padded, s, best_.data(), out.u.data(), out.v.data(),
             out.cam.data(), occlusion_ ? &occlusion_->cameras[ci] : nullptr, occlusion_, judged,
-            occlusion_ ? best_unoccluded_.data() : nullptr);
+            occlusion_ ? best_unoccluded_.data() : nullptr, blend_ ? seen_by_.data() : nullptr);
+  }
+  if (blend_) {
+    if (out.shared.size() < static_cast<size_t>(padded)) out.shared.resize(padded);
+    for (int i = 0; i < padded; ++i) {
+      out.shared[i] = seen_by_[i] >= 2;
+      // Seen by one camera: the blend takes it only where its feather weight is above 0
+      // (outside the camera's usable region, found on a 4 px grid, it is 0).
+      if (seen_by_[i] == 1) {
+        const CameraSetup& c = setups_[out.cam[i]];
+        if (c.feather.at<float>(static_cast<int>(out.v[i] + 0.5f), static_cast<int>(out.u[i] + 0.5f)) <= 0) {
+          out.cam[i] = kNoCamera;
+        }
+      }
+    }
   }
   if (occlusion_) {
     for (int i = 0; i < padded; ++i) out.better_hidden[i] = best_unoccluded_[i] < best_[i];

@@ -22,13 +22,19 @@ struct Winners {
   // two samples that camera may see the surface again).
   std::vector<float> x, y, z;
   std::vector<uint8_t> judged, better_hidden;
+  // Blend only: whether two or more cameras see the pixel (the blend map is then not the
+  // winner's coordinates alone: a second camera and a weight).
+  std::vector<uint8_t> shared;
 };
 
 class WinnerSampler {
  public:
   // `occlusion` (optional): cameras that see a pixel's surface point hidden do not compete.
-  WinnerSampler(const View& view, const std::vector<CameraSetup>& setups, const Occlusion* occlusion = nullptr)
-      : view_(view), setups_(setups), occlusion_(occlusion), keep_points_(occlusion || view.measured()) {}
+  // `blend`: for a blend map: Winners::shared is set, and where a single camera sees a
+  // pixel, it wins only where its feather weight is above 0 (as in the blend rule).
+  WinnerSampler(const View& view, const std::vector<CameraSetup>& setups, const Occlusion* occlusion = nullptr,
+                bool blend = false)
+      : view_(view), setups_(setups), occlusion_(occlusion), keep_points_(occlusion || view.measured()), blend_(blend) {}
 
   // Winners at pixels (columns[i], row), i < n, into out[i] (out grows to hold them).
   void sample(int row, const int* columns, int n, Winners& out);
@@ -38,9 +44,11 @@ class WinnerSampler {
   const std::vector<CameraSetup>& setups_;
   const Occlusion* occlusion_;
   const bool keep_points_;
+  const bool blend_;
   RowScratch scratch_{0};
   std::vector<float> best_, best_unoccluded_;
   std::vector<int> columns_;  // padded
+  std::vector<uint8_t> seen_by_;  // blend: how many cameras see each pixel (saturating: < 254 cameras)
 };
 
 }  // namespace omniview::map_internal
