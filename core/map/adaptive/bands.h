@@ -1,4 +1,4 @@
-// Adaptive map building for the nearest-centre policy.
+// Adaptive map building (nearest-centre, and blend outside the cameras' overlaps).
 //
 // Camera models and surfaces are smooth, so inside most 8x8 blocks of the output the
 // source coordinates are almost exactly a bilinear function of the pixel position. The
@@ -18,6 +18,9 @@
 // Every other pixel (seams, coverage edges, fisheye circles, masks) is computed exactly.
 // Patches are encoded straight into the map (patch_writer.h); lattice rows are shared by
 // consecutive bands; exact pixels of a row are projected as one batch (winners.h).
+// Blend maps: a block is interpolated only where one camera sees all its samples (there the
+// blend is that camera at full weight); a block two cameras see at a sample is exact, each
+// of its pixels by the blend rule (blend_pixels.h), as are the exact pixels two cameras see.
 // The image border needs no test: a bilinear patch whose corners lie inside the image
 // stays inside it. Near a seam an interpolated block may keep a camera whose neighbour
 // would win by a hair; both see the point, so the picture is the same.
