@@ -44,6 +44,17 @@ cv::Mat feather_weights(const Camera& cam, double feather_px) {
   return weights;
 }
 
+bool FeatherSet::fits(const Rig& rig, double feather) const {
+  const auto& cameras = rig.cameras();
+  if (feather != feather_px || weights.size() != cameras.size()) return false;
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    if (weights[i].type() != CV_32FC1 || weights[i].cols != cameras[i].width || weights[i].rows != cameras[i].height) {
+      return false;
+    }
+  }
+  return true;
+}
+
 FeatherSet feather_set(const Rig& rig, double feather_px) {
   FeatherSet set;
   set.feather_px = feather_px;

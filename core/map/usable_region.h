@@ -26,9 +26,7 @@ struct FeatherSet {
   std::vector<cv::Mat> weights;  // per rig camera
 
   // Whether these are the weights a map of `rig`'s cameras with `feather_px` needs.
-  bool fits(const Rig& rig, double feather) const {
-    return feather == feather_px && weights.size() == rig.cameras().size();
-  }
+  bool fits(const Rig& rig, double feather) const;
 };
 FeatherSet feather_set(const Rig& rig, double feather_px);
 

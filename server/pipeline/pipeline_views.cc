@@ -70,8 +70,15 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
                             "' (frames: " + known + ")");
   }
   const auto t0 = Clock::now();
+  // A measured view's blend maps are rebuilt at every geometry update: its cameras' feather
+  // weights are made once, here, for all of them.
+  std::shared_ptr<const FeatherSet> feathers;
+  if (spec.depth == Depth::kMeasured && spec.fusion == Fusion::kBlend) {
+    feathers = std::make_shared<const FeatherSet>(feather_set(r, spec.feather_px));
+  }
   try {
-    state->map = std::make_shared<const FusionMap>(build_map(r, *state->view));
+    state->map = std::make_shared<const FusionMap>(
+        build_map(r, *state->view, MapPrecision::kAdaptive, Sampling::kFootprint, nullptr, feathers.get()));
   } catch (const std::invalid_argument& e) {
     throw PipelineError(ErrorKind::kInvalidArgument, e.what());
   }
@@ -95,7 +102,7 @@ std::shared_ptr<const ViewState> Pipeline::build_state(const ViewSpec& spec, uin
     auto depth = std::make_shared<ViewDepth>();
     try {
       depth->surface = std::make_shared<const DepthSurface>(spec);
-      if (spec.fusion == Fusion::kBlend) depth->feathers = std::make_shared<const FeatherSet>(feather_set(r, spec.feather_px));
+      depth->feathers = feathers;
     } catch (const std::invalid_argument& e) {
       throw PipelineError(ErrorKind::kInvalidArgument, e.what());
     }

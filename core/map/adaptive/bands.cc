@@ -160,12 +160,8 @@ class BandBuilder {
     }
   }
 
-  // What measured depth and occlusion add to plan_block's tests: the surface is smooth
-  // between the samples (View::smooth_over), no better camera was dropped as hidden at a
-  // sample, the occlusion test applies to all of the block's pixels or none, and the
-  // winner's covering depth over the block's footprint in its image hides none of it
-  // (a thin occluder between two samples would otherwise be interpolated over).
-  // Blend: two cameras see a sample (a block in their overlap is exact, refined no further).
+  // Blend: two cameras see a sample. A block whose 3x3 lattice has one is exact at once (no
+  // fine lattice); one whose fine lattice has one is exact in the quarters that do.
   template <int N>
   bool any_shared(const Lattice<N>& b) const {
     for (int p = 0; p < N; ++p) {
@@ -176,7 +172,12 @@ class BandBuilder {
     return false;
   }
 
-  // A blend map's block is interpolated only where one camera sees every sample.
+  // What measured depth and occlusion add to plan_block's tests: the surface is smooth
+  // between the samples (View::smooth_over), no better camera was dropped as hidden at a
+  // sample, the occlusion test applies to all of the block's pixels or none, and the
+  // winner's covering depth over the block's footprint in its image hides none of it
+  // (a thin occluder between two samples would otherwise be interpolated over).
+  // And a blend map's block only where one camera sees every sample.
   template <int N>
   bool may_interpolate(const Lattice<N>& b) const {
     if (blend_ && any_shared(b)) return false;

@@ -135,6 +135,7 @@ BlockLattice quarter(const FineLattice& f, int qy, int qx) {
       b.on_surface[p][k] = f.on_surface[fp][fk];
       b.px[p][k] = f.px[fp][fk], b.py[p][k] = f.py[fp][fk], b.pz[p][k] = f.pz[fp][fk];
       b.better_hidden[p][k] = f.better_hidden[fp][fk];
+      b.shared[p][k] = f.shared[fp][fk];
     }
   }
   return b;

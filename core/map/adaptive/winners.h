@@ -48,7 +48,7 @@ class WinnerSampler {
   RowScratch scratch_{0};
   std::vector<float> best_, best_unoccluded_;
   std::vector<int> columns_;  // padded
-  std::vector<uint8_t> seen_by_;  // blend: how many cameras see each pixel (saturating: < 254 cameras)
+  std::vector<uint8_t> seen_by_;  // blend: how many cameras see each pixel (a rig has at most 254)
 };
 
 }  // namespace omniview::map_internal
